@@ -1,0 +1,58 @@
+"""``crd dbc``: show the CAN contract, or decode a CAN log against it.
+
+``crd dbc show`` prints every message with its ID, sender, cycle time and
+signals (unit, range, resolution). ``crd dbc decode LOG`` reads a BLF/ASC/CSV
+log with python-can's readers and prints each frame after the contract's
+checks, with rejected frames named by their error.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import can
+
+from .database import LAYOUTS
+from .errors import FrameError
+from .receiver import Receiver
+
+
+def add_subparser(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("dbc", help="show the CAN contract or decode a log against it")
+    sub = parser.add_subparsers(dest="dbc_command", metavar="ACTION")
+    sub.required = True
+    show = sub.add_parser("show", help="list messages and signals of the DBC")
+    show.set_defaults(func=_do_show)
+    decode = sub.add_parser("decode", help="decode a CAN log (.blf, .asc, .csv) with E2E checks")
+    decode.add_argument("log", help="log file; the format follows its suffix")
+    decode.add_argument("--limit", type=int, default=0, help="stop after this many frames (0: all)")
+    decode.set_defaults(func=_do_decode)
+
+
+def _do_show(args: argparse.Namespace) -> int:
+    for layout in LAYOUTS.values():
+        cycle = f"{layout.cycle_time_ms} ms" if layout.cycle_time_ms else "-"
+        print(f"0x{layout.frame_id:03X} {layout.name:<15} from {','.join(layout.senders):<7} cycle {cycle}")
+        for sig in layout.signals:
+            rng = f"{sig.minimum:g}..{sig.maximum:g}"
+            enum = f" enum{sorted(sig.choices)}" if sig.choices else ""
+            print(f"    {sig.name:<20} {sig.unit or '-':<6} {rng:<16} res {sig.scale:g}{enum}")
+    return 0
+
+
+def _do_decode(args: argparse.Namespace) -> int:
+    receiver = Receiver()
+    count = 0
+    with can.LogReader(args.log) as reader:
+        for msg in reader:
+            try:
+                frame = receiver.check(msg)
+                text = f"{frame.name} {dict(frame.signals)}" + ("" if frame.fresh else " (repeat)")
+            except FrameError as exc:
+                text = f"REJECTED {type(exc).__name__}: {exc}"
+            print(f"{msg.timestamp:12.3f} 0x{msg.arbitration_id:03X} {text}")
+            count += 1
+            if args.limit and count >= args.limit:
+                break
+    print(f"{count} frames; rejected: {dict((k, v) for k, v in receiver.stats.items() if k not in ('good',))}")
+    return 0

@@ -1,0 +1,27 @@
+"""E2E Profile 1 alive counter: 0..14, wrapping; 15 is never sent."""
+
+from __future__ import annotations
+
+COUNTER_MODULUS = 15  # values 0..14
+MAX_COUNTER_JUMP = 2  # a jump of more than 2 is an error (one or two lost frames tolerated)
+
+
+class CounterSequence:
+    """The sender's side of the counter: ``next()`` yields 0, 1, ..., 14, 0, ..."""
+
+    __slots__ = ("_value",)
+
+    def __init__(self, start: int = 0) -> None:
+        if not 0 <= start < COUNTER_MODULUS:
+            raise ValueError(f"counter start must be in 0..14, got {start}")
+        self._value = start
+
+    def next(self) -> int:
+        value = self._value
+        self._value = (value + 1) % COUNTER_MODULUS
+        return value
+
+
+def counter_delta(previous: int, current: int) -> int:
+    """Forward distance from ``previous`` to ``current`` modulo 15 (0 = repeat)."""
+    return (current - previous) % COUNTER_MODULUS

@@ -1,0 +1,121 @@
+"""The contract's DBC, loaded once and strictly, and the layout tables built from it.
+
+``DBC_PATH`` is the file; ``DATABASE`` the ``cantools`` database loaded with
+``strict=True`` (overlapping signals or signals outside the frame are errors).
+``LAYOUTS`` maps each message name to a :class:`MessageLayout`, a precomputed
+table that lets :mod:`can_dbc.codec` and :mod:`can_dbc.receiver` encode and
+decode a frame with integer shifts and masks only. All messages are classic
+CAN, 11-bit IDs, DLC 8, little-endian (Intel) signals.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from types import MappingProxyType
+from typing import Mapping
+
+import cantools
+
+DBC_PATH: Path = Path(__file__).with_name("active_safety.dbc")
+DATABASE = cantools.database.load_file(str(DBC_PATH), strict=True)
+
+#: Signals of the E2E Profile 1 header, handled by the codec itself.
+E2E_SIGNALS = ("CHECKSUM", "COUNTER")
+FRAME_LENGTH = 8
+
+
+@dataclass(frozen=True, slots=True)
+class SignalLayout:
+    """Bit position, scaling and limits of one signal.
+
+    ``raw_min``/``raw_max`` are the raw integers that map inside the DBC's
+    physical [minimum, maximum]; ``choices`` is the set of declared enum values
+    (empty when the signal is not an enumeration).
+    """
+
+    name: str
+    start: int
+    length: int
+    signed: bool
+    scale: float
+    offset: float
+    minimum: float
+    maximum: float
+    raw_min: int
+    raw_max: int
+    is_integer: bool
+    choices: frozenset[int]
+    unit: str
+
+
+@dataclass(frozen=True, slots=True)
+class MessageLayout:
+    """A message of the contract: its ID, cycle time and payload signals."""
+
+    name: str
+    frame_id: int
+    length: int
+    cycle_time_ms: int | None
+    senders: tuple[str, ...]
+    signals: tuple[SignalLayout, ...]
+
+
+def _signal_layout(signal) -> SignalLayout:
+    if signal.byte_order != "little_endian":
+        raise ValueError(f"signal {signal.name}: expected little_endian, got {signal.byte_order}")
+    scale = float(signal.scale)
+    offset = float(signal.offset)
+    minimum = float(signal.minimum)
+    maximum = float(signal.maximum)
+    raw_min = math.ceil(round((minimum - offset) / scale, 9))
+    raw_max = math.floor(round((maximum - offset) / scale, 9))
+    choices = frozenset(int(k) for k in (signal.choices or {}))
+    return SignalLayout(
+        name=signal.name,
+        start=signal.start,
+        length=signal.length,
+        signed=signal.is_signed,
+        scale=scale,
+        offset=offset,
+        minimum=minimum,
+        maximum=maximum,
+        raw_min=raw_min,
+        raw_max=raw_max,
+        is_integer=scale == 1.0 and offset == 0.0,
+        choices=choices,
+        unit=signal.unit or "",
+    )
+
+
+def _message_layout(message) -> MessageLayout:
+    if message.is_extended_frame or message.length != FRAME_LENGTH:
+        raise ValueError(f"message {message.name}: expected 11-bit ID and DLC 8")
+    names = [s.name for s in message.signals]
+    if names[:2] != list(E2E_SIGNALS):
+        raise ValueError(f"message {message.name}: expected CHECKSUM, COUNTER first, got {names[:2]}")
+    return MessageLayout(
+        name=message.name,
+        frame_id=message.frame_id,
+        length=message.length,
+        cycle_time_ms=message.cycle_time,
+        senders=tuple(message.senders),
+        signals=tuple(_signal_layout(s) for s in message.signals[2:]),
+    )
+
+
+LAYOUTS: Mapping[str, MessageLayout] = MappingProxyType(
+    {m.name: _message_layout(m) for m in DATABASE.messages}
+)
+LAYOUTS_BY_ID: Mapping[int, MessageLayout] = MappingProxyType(
+    {layout.frame_id: layout for layout in LAYOUTS.values()}
+)
+
+
+def cycle_time_s(message_name: str) -> float:
+    """The message's ``GenMsgCycleTime`` in seconds."""
+    cycle = LAYOUTS[message_name].cycle_time_ms
+    if cycle is None:
+        raise KeyError(f"message {message_name} has no GenMsgCycleTime")
+    return cycle / 1000.0

@@ -1,0 +1,73 @@
+"""The ``crd`` command: one dispatcher, one module per subcommand.
+
+Each subcommand module exposes ``add_subparser(subparsers)``, which registers
+its parser and sets ``func`` to its ``_do_<cmd>(args) -> int`` handler. Modules
+are imported lazily from the table below, so ``crd ecu`` never loads fmpy and
+``crd fmu`` never loads the ECU.
+
+Errors become a one-line ``error: ...`` on stderr and exit code 1; ``--debug``
+shows the traceback instead.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import sys
+
+#: subcommand name -> module that implements it (imported on demand).
+SUBCOMMANDS: dict[str, str] = {
+    "dbc": "can_dbc.cli",
+    "fmu": "fmu_plant.cli",
+    "ecu": "ecu.cli",
+    "run": "cosim.cli.run",
+    "paper": "cosim.cli.paper",
+}
+
+
+def _build_parser(argv: list[str]) -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="crd",
+        description="Colliding reciprocal dance: FMI co-simulation and CAN active-safety ECU.",
+    )
+    parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    wanted = next((a for a in argv if a in SUBCOMMANDS), None)
+    for name, module_name in SUBCOMMANDS.items():
+        if wanted is not None and name != wanted:
+            sub.add_parser(name, help=f"(see crd {name} --help)")
+            continue
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as exc:
+            if exc.name != module_name:
+                raise
+            continue  # subcommand not built yet
+        module.add_subparser(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    parser = _build_parser(argv)
+    args = parser.parse_args(argv)
+    logging.basicConfig(
+        level=logging.DEBUG if args.debug else logging.WARNING,
+        format="%(levelname)s %(name)s: %(message)s",
+    )
+    try:
+        return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # noqa: BLE001 - the CLI boundary turns every error into one line
+        if args.debug:
+            raise
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,64 @@
+"""The DBC itself: IDs, nodes, cycle times, units, and a second parser."""
+
+import pytest
+
+from can_dbc import DATABASE, DBC_PATH, LAYOUTS
+
+EXPECTED = {
+    "SafetyOverride": (0x090, "ECU", 10),
+    "WheelSpeeds": (0x0A0, "ESC", 10),
+    "DriverInput": (0x0B0, "DRIVER", 10),
+    "ObjectTrack": (0x0C0, "RADAR", 50),
+    "EcuStatus": (0x3A0, "ECU", 100),
+    "SimClock": (0x7F0, "SIM", 10),
+}
+
+
+def test_messages_ids_senders_cycles():
+    assert set(LAYOUTS) == set(EXPECTED)
+    for name, (frame_id, sender, cycle) in EXPECTED.items():
+        message = DATABASE.get_message_by_name(name)
+        assert message.frame_id == frame_id
+        assert message.senders == [sender]
+        assert message.cycle_time == cycle
+        assert message.length == 8 and not message.is_extended_frame
+
+
+def test_nodes():
+    assert {node.name for node in DATABASE.nodes} == {"ECU", "ESC", "DRIVER", "RADAR", "SIM"}
+
+
+def test_enumerations_declared():
+    mode = DATABASE.get_message_by_name("SafetyOverride").get_signal_by_name("Mode")
+    assert {int(k): str(v) for k, v in mode.choices.items()} == {
+        0: "STANDBY", 1: "TIGHTENING", 2: "CONTINGENCY", 3: "FAULT"}
+    strategy = DATABASE.get_message_by_name("EcuStatus").get_signal_by_name("Strategy")
+    assert {int(k): str(v) for k, v in strategy.choices.items()} == {
+        0: "NONE", 1: "CONSERVATIVE", 2: "TIGHTENING"}
+
+
+def test_physical_signals_declare_units():
+    units = {s.name: s.unit for layout in LAYOUTS.values() for s in layout.signals}
+    assert units["WheelSpeedFL"] == "km/h"
+    assert units["BrakeDecelRequest"] == "m/s^2"
+    assert units["ObjectRange"] == "m"
+    assert units["SimTimeMs"] == "ms"
+    assert units["AccelPedal"] == "%"
+
+
+def test_e2e_header_layout():
+    for message in DATABASE.messages:
+        crc, counter = message.signals[0], message.signals[1]
+        assert (crc.name, crc.start, crc.length) == ("CHECKSUM", 0, 8)
+        assert (counter.name, counter.start, counter.length, counter.maximum) == ("COUNTER", 8, 4, 14)
+
+
+def test_canmatrix_loads_the_dbc():
+    canmatrix_formats = pytest.importorskip("canmatrix.formats", reason="canmatrix is a test dependency")
+    matrices = canmatrix_formats.loadp(str(DBC_PATH))
+    matrix = next(iter(matrices.values()))
+    frames = {frame.name: frame for frame in matrix.frames}
+    assert set(frames) == set(EXPECTED)
+    assert frames["ObjectTrack"].arbitration_id.id == 0x0C0
+    assert frames["ObjectTrack"].size == 8
+    assert {s.name for s in frames["WheelSpeeds"].signals} >= {"WheelSpeedFL", "WheelSpeedRR"}
