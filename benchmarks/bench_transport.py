@@ -1,0 +1,250 @@
+"""Round-trip latency and throughput of the cross-process loopback CAN transports.
+
+Process A (this script) sends a frame; process B echoes it; A receives it. For
+each transport: the median and p99 round-trip time over ``--round-trips``
+frames, and the echo throughput with up to ``--window`` frames in flight.
+
+Transports:
+
+- ``crd_unix``: ours (``ecu.transport.UnixSocketBus``), hub in this process;
+- ``remote``: python-can-remote 0.3 (if installed), its server bound to
+  127.0.0.1 on an ephemeral port, one ``virtual`` bus per client inside it;
+  measured only, never a dependency of the project;
+- ``virtual``: python-can's in-process virtual bus, echo in a thread (baseline;
+  it cannot cross processes).
+
+Every process started here is stopped by its PID at the end.
+
+Run: ``python benchmarks/bench_transport.py [--round-trips 5000] [--frames 20000]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import importlib.util
+import os
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+import can
+
+REPO_ROOT = Path(__file__).resolve().parents[1]
+READY_TIMEOUT_S = 10.0
+RECV_TIMEOUT_S = 5.0
+
+
+def _echo_main(interface: str, channel: str) -> int:
+    """Child mode: echo every frame until stdin closes."""
+    stop = threading.Event()
+    threading.Thread(target=lambda: (sys.stdin.read(), stop.set()), daemon=True).start()
+    with can.Bus(interface=interface, channel=channel) as bus:
+        print("READY", flush=True)
+        with contextlib.suppress(can.CanOperationError):  # the bus went away: we are done
+            while not stop.is_set():
+                msg = bus.recv(timeout=0.05)
+                if msg is not None:
+                    bus.send(msg)
+    return 0
+
+
+class _Children:
+    """Processes started by the benchmark, stopped by PID."""
+
+    def __init__(self) -> None:
+        self.procs: list[subprocess.Popen] = []
+
+    def start(self, *args: str) -> subprocess.Popen:
+        proc = subprocess.Popen([sys.executable, *args], cwd=REPO_ROOT, stdin=subprocess.PIPE,
+                                stdout=subprocess.PIPE, text=True)
+        self.procs.append(proc)
+        return proc
+
+    def start_echo(self, interface: str, channel: str) -> subprocess.Popen:
+        proc = self.start(__file__, "--echo", interface, channel)
+        line = proc.stdout.readline().strip()
+        if line != "READY":
+            raise RuntimeError(f"expected READY from the echo process, got {line!r}")
+        return proc
+
+    def stop(self, proc: subprocess.Popen) -> None:
+        """Close its stdin (the echo's signal to stop), then SIGTERM, then SIGKILL, by PID."""
+        if proc.poll() is None:
+            proc.stdin.close()
+            for sig in (signal.SIGTERM, signal.SIGKILL):
+                try:
+                    proc.wait(timeout=3)
+                    break
+                except subprocess.TimeoutExpired:
+                    os.kill(proc.pid, sig)
+            proc.wait(timeout=3)
+        proc.stdout.close()
+        self.procs.remove(proc)
+
+    def stop_all(self) -> None:
+        """Stop the latest-started first (echo peers before the servers they use)."""
+        for proc in reversed(list(self.procs)):
+            self.stop(proc)
+
+
+def _frame(i: int) -> can.Message:
+    return can.Message(arbitration_id=0x100, is_extended_id=False, data=i.to_bytes(8, "little"))
+
+
+def _wait_for_echo(bus: can.BusABC) -> None:
+    """Ping until the echo answers (the peer may still be joining), then drain."""
+    deadline = time.monotonic() + READY_TIMEOUT_S
+    while time.monotonic() < deadline:
+        bus.send(_frame(2**63))
+        if bus.recv(timeout=0.2) is not None:
+            while bus.recv(timeout=0.2) is not None:
+                pass
+            return
+    raise RuntimeError("the echo peer never answered")
+
+
+def _recv_number(bus: can.BusABC) -> int:
+    msg = bus.recv(timeout=RECV_TIMEOUT_S)
+    if msg is None:
+        raise RuntimeError(f"no echo within {RECV_TIMEOUT_S} s")
+    return int.from_bytes(msg.data, "little")
+
+
+def measure(bus: can.BusABC, round_trips: int, frames: int, window: int) -> dict[str, float]:
+    """Round-trip times (µs) and echoed frames per second on ``bus``."""
+    _wait_for_echo(bus)
+    rtt_us = []
+    for i in range(round_trips):
+        start = time.perf_counter()
+        bus.send(_frame(i))
+        got = _recv_number(bus)
+        rtt_us.append((time.perf_counter() - start) * 1e6)
+        if got != i:
+            raise RuntimeError(f"expected echo {i}, got {got}")
+    sent = received = 0
+    start = time.perf_counter()
+    while received < frames:
+        while sent < frames and sent - received < window:
+            bus.send(_frame(sent))
+            sent += 1
+        got = _recv_number(bus)
+        if got != received:
+            raise RuntimeError(f"expected echo {received} in order, got {got}")
+        received += 1
+    elapsed_s = time.perf_counter() - start
+    rtt_us.sort()
+    return {"median_us": statistics.median(rtt_us), "p99_us": rtt_us[int(0.99 * (len(rtt_us) - 1))],
+            "frames_per_s": frames / elapsed_s}
+
+
+@contextlib.contextmanager
+def _crd_unix(children: _Children):
+    from ecu.transport import UnixSocketBus
+
+    with tempfile.TemporaryDirectory(prefix="crd-bench-") as tmp:
+        channel = os.path.join(tmp, "bus.sock")
+        with UnixSocketBus(channel) as bus:
+            echo = children.start_echo("crd_unix", channel)
+            try:
+                yield bus
+            finally:
+                children.stop(echo)
+
+
+@contextlib.contextmanager
+def _crd_unix_standalone_hub(children: _Children):
+    from ecu.transport import UnixSocketBus
+
+    with tempfile.TemporaryDirectory(prefix="crd-bench-") as tmp:
+        channel = os.path.join(tmp, "bus.sock")
+        hub = children.start("-m", "ecu.transport.hub", channel)
+        hub.stdout.readline()
+        with UnixSocketBus(channel, hub="connect") as bus:
+            echo = children.start_echo("crd_unix", channel)
+            try:
+                yield bus
+            finally:
+                children.stop(echo)
+        os.kill(hub.pid, signal.SIGTERM)
+        hub.wait(timeout=3)
+
+
+@contextlib.contextmanager
+def _remote(children: _Children):
+    server = children.start("-c", (
+        "from can_remote.server import RemoteServer\n"
+        "s = RemoteServer('127.0.0.1', 0, interface='virtual', channel='crd-bench')\n"
+        "print(s.server_port, flush=True)\n"
+        "s.serve_forever()\n"))
+    url = f"ws://127.0.0.1:{int(server.stdout.readline())}/"
+    echo = children.start_echo("remote", url)
+    bus = can.Bus(interface="remote", channel=url)
+    try:
+        yield bus
+    finally:
+        children.stop(echo)
+        bus.shutdown()
+
+
+@contextlib.contextmanager
+def _virtual(children: _Children):
+    stop = threading.Event()
+    with can.Bus(interface="virtual", channel="crd-bench") as bus, \
+            can.Bus(interface="virtual", channel="crd-bench") as echo:
+        def run_echo() -> None:
+            while not stop.is_set():
+                msg = echo.recv(timeout=0.05)
+                if msg is not None:
+                    echo.send(msg)
+
+        thread = threading.Thread(target=run_echo, daemon=True)
+        thread.start()
+        try:
+            yield bus
+        finally:
+            stop.set()
+            thread.join(2)
+
+
+TRANSPORTS = {"crd_unix (ours, 2 processes, hub in A)": _crd_unix,
+              "crd_unix (ours, 2 processes + hub process)": _crd_unix_standalone_hub,
+              "python-can-remote 0.3 (2 processes + server)": _remote,
+              "virtual (in-process baseline, echo thread)": _virtual}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--round-trips", type=int, default=5000)
+    parser.add_argument("--frames", type=int, default=20000, help="frames echoed for the throughput figure")
+    parser.add_argument("--window", type=int, default=64, help="frames in flight for the throughput figure")
+    parser.add_argument("--echo", nargs=2, metavar=("INTERFACE", "CHANNEL"), help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.echo:
+        return _echo_main(*args.echo)
+    print(f"round trips: {args.round_trips}; throughput: {args.frames} frames echoed, window {args.window}")
+    print(f"{'transport':48s} {'RTT median µs':>14s} {'RTT p99 µs':>11s} {'echoed frames/s':>16s}")
+    for name, setup in TRANSPORTS.items():
+        if "remote" in name and importlib.util.find_spec("can_remote") is None:
+            print(f"{name:48s} {'not installed':>14s}")
+            continue
+        children = _Children()
+        try:
+            with setup(children) as bus:
+                figures = measure(bus, args.round_trips, args.frames, args.window)
+            print(f"{name:48s} {figures['median_us']:14.1f} {figures['p99_us']:11.1f} "
+                  f"{figures['frames_per_s']:16.0f}")
+        except (RuntimeError, can.CanError, OSError) as exc:
+            print(f"{name:48s} failed: {exc}")
+        finally:
+            children.stop_all()
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
