@@ -1,0 +1,192 @@
+/* Equations of the longitudinal vehicle plant (see fmu_plant/README.md).
+ *
+ * One fixed step h = PLANT_STEP_S:
+ *   powertrain  F_lag += a_t (throttle * F_max - F_lag),  F_d = min(F_lag, P_max / max(w_d r, 1 m/s))
+ *   brakes      p += a_b (brake(t - T_d) - p),  per-axle ABS modulation of p
+ *   tyres       kappa = (w r - v) / max(v, V_FLOOR),  Fx = mu D Fz sin(C atan(B k - E (B k - atan(B k))))
+ *   wheels      J dw/dt = T_drive - T_brake - Fx r     (linearly implicit Euler, w >= 0)
+ *   chassis     m dv/dt = sum Fx - F_aero - m g sin(grade) - F_roll   (v >= 0)
+ * Deterministic: no state outside PlantModel, no accumulated time. */
+#include "model.h"
+
+#include <math.h>
+#include <stdio.h>
+
+#define GRAVITY_MPS2 9.80665
+/* Slip denominator floor, m/s: keeps the slip finite at standstill. */
+#define SLIP_SPEED_FLOOR_MPS 0.5
+/* Power-limit speed floor, m/s: below it the traction force limit governs. */
+#define POWER_SPEED_FLOOR_MPS 1.0
+/* ABS works above this speed (real systems cut out near 1-2 m/s). */
+#define ABS_MIN_SPEED_MPS 1.5
+/* ABS pressure dump and re-apply rates, normalised pressure per second. */
+#define ABS_DUMP_RATE_PER_S 12.0
+#define ABS_APPLY_RATE_PER_S 4.0
+/* ABS cycling ends when the pedal pressure falls below this. */
+#define ABS_PEDAL_RELEASED 0.02
+
+static double clamp(double x, double lo, double hi) {
+    return x < lo ? lo : (x > hi ? hi : x);
+}
+
+const char *plant_check_parameters(const PlantModel *m, char *buf, size_t len) {
+    const PlantVariables *p = &m->var;
+    if (!(p->cg_to_front_axle < p->wheelbase)) {
+        snprintf(buf, len, "parameter 'cg_to_front_axle' = %g must be below 'wheelbase' = %g",
+                 p->cg_to_front_axle, p->wheelbase);
+        return buf;
+    }
+    if (!(p->abs_slip_reapply < p->abs_slip_release)) {
+        snprintf(buf, len, "parameter 'abs_slip_reapply' = %g must be below 'abs_slip_release' = %g",
+                 p->abs_slip_reapply, p->abs_slip_release);
+        return buf;
+    }
+    return NULL;
+}
+
+void plant_initialize(PlantModel *m) {
+    const PlantVariables *p = &m->var;
+    PlantState *s = &m->st;
+    PlantDerived *k = &m->k;
+    *s = (PlantState){0};
+    s->v_mps = p->v0;
+    s->x_m = p->x0;
+    s->omega_radps[PLANT_FRONT] = p->v0 / p->wheel_radius;
+    s->omega_radps[PLANT_REAR] = p->v0 / p->wheel_radius;
+    s->delay_len = (int)lround(p->brake_dead_time / PLANT_STEP_S);
+    k->alpha_brake = 1.0 - exp(-PLANT_STEP_S / p->brake_time_constant);
+    k->alpha_throttle = 1.0 - exp(-PLANT_STEP_S / p->throttle_time_constant);
+    k->axle_inertia = 2.0 * p->wheel_inertia;
+    k->brake_share[PLANT_FRONT] = p->brake_front_share;
+    k->brake_share[PLANT_REAR] = 1.0 - p->brake_front_share;
+    k->drive_share[PLANT_FRONT] = p->drive_front_share;
+    k->drive_share[PLANT_REAR] = 1.0 - p->drive_front_share;
+    plant_publish_outputs(m);
+}
+
+/* Brake command after the hydraulic dead time: a ring buffer of delay_len steps. */
+static double delayed_brake(PlantState *s, double brake) {
+    if (s->delay_len == 0) {
+        return brake;
+    }
+    double out = s->delay_buf[s->delay_head];
+    s->delay_buf[s->delay_head] = brake;
+    s->delay_head = (s->delay_head + 1) % s->delay_len;
+    return out;
+}
+
+/* Longitudinal Magic Formula (Pacejka 2012, eq. 4.49) and its slope dF/dkappa. */
+static double magic_formula(const PlantVariables *p, double kappa, double peak_n, double *slope) {
+    double bk = p->tyre_B * kappa;
+    double phi = bk - p->tyre_E * (bk - atan(bk));
+    double dphi = p->tyre_B * (1.0 - p->tyre_E + p->tyre_E / (1.0 + bk * bk));
+    double theta = p->tyre_C * atan(phi);
+    *slope = peak_n * cos(theta) * p->tyre_C / (1.0 + phi * phi) * dphi;
+    return peak_n * sin(theta);
+}
+
+/* Axle normal loads, N, with static grade and longitudinal load transfer. */
+static void axle_loads(const PlantModel *m, double fz[PLANT_AXLES]) {
+    const PlantVariables *p = &m->var;
+    double weight = p->mass * GRAVITY_MPS2;
+    double lr = p->wheelbase - p->cg_to_front_axle;
+    double transfer = (p->mass * m->st.a_mps2 + weight * sin(p->grade)) * p->cg_height;
+    fz[PLANT_FRONT] = clamp((weight * cos(p->grade) * lr - transfer) / p->wheelbase, 0.0, weight);
+    fz[PLANT_REAR] = clamp(weight * cos(p->grade) - fz[PLANT_FRONT], 0.0, weight);
+}
+
+/* ABS, three-phase (dump / hold / re-apply) on the braking slip -kappa:
+ * above abs_slip_release dump the axle pressure, below abs_slip_reapply raise it
+ * again at a limited rate, in between hold it. Until the first dump the axle
+ * simply follows the pedal pressure. */
+static void abs_modulate(PlantModel *m, int axle, double kappa) {
+    const PlantVariables *p = &m->var;
+    PlantState *s = &m->st;
+    double *pa = &s->axle_pressure[axle];
+    if (!p->abs_enabled || s->v_mps < ABS_MIN_SPEED_MPS || s->pressure < ABS_PEDAL_RELEASED) {
+        s->abs_cycling[axle] = 0;
+        *pa = s->pressure;
+        return;
+    }
+    double slip = -kappa;
+    if (slip > p->abs_slip_release) {
+        s->abs_cycling[axle] = 1;
+        *pa = fmax(0.0, *pa - ABS_DUMP_RATE_PER_S * PLANT_STEP_S);
+    } else if (!s->abs_cycling[axle]) {
+        *pa = s->pressure;
+    } else if (slip < p->abs_slip_reapply) {
+        *pa = *pa + ABS_APPLY_RATE_PER_S * PLANT_STEP_S;
+    }
+    *pa = fmin(*pa, s->pressure);
+}
+
+/* One axle: tyre force and linearly implicit wheel update. Returns Fx, N. */
+static double axle_step(PlantModel *m, int axle, double fz_n) {
+    const PlantVariables *p = &m->var;
+    PlantState *s = &m->st;
+    const double h = PLANT_STEP_S;
+    double r = p->wheel_radius;
+    double w = s->omega_radps[axle];
+    double den = fmax(s->v_mps, SLIP_SPEED_FLOOR_MPS);
+    double kappa = (w * r - s->v_mps) / den;
+    double peak = p->road_friction * p->tyre_D * fz_n;
+    double slope;
+    double fx = magic_formula(p, kappa, peak, &slope);
+    abs_modulate(m, axle, kappa);
+    double t_drive = m->k.drive_share[axle] * s->drive_force_n * r;
+    double t_brake = m->k.brake_share[axle] * s->axle_pressure[axle] * p->max_brake_force * r;
+    /* Only the stabilising part of the slope enters the implicit term. */
+    double stiff = fmax(slope, 0.0) * r / den;
+    double j = m->k.axle_inertia;
+    double w_new = w + h * (t_drive - t_brake - r * fx) / (j + h * r * stiff);
+    if (w_new < 0.0) {
+        w_new = 0.0; /* the brake holds the wheel; nothing turns it backwards */
+    }
+    s->omega_radps[axle] = w_new;
+    return clamp(fx + stiff * (w_new - w), -peak, peak);
+}
+
+static void powertrain_and_brake_step(PlantModel *m) {
+    const PlantVariables *p = &m->var;
+    PlantState *s = &m->st;
+    s->drive_force_lag_n += m->k.alpha_throttle * (p->throttle * p->max_drive_force - s->drive_force_lag_n);
+    double w_driven = m->k.drive_share[PLANT_FRONT] * s->omega_radps[PLANT_FRONT] +
+                      m->k.drive_share[PLANT_REAR] * s->omega_radps[PLANT_REAR];
+    double v_driven = fmax(w_driven * p->wheel_radius, POWER_SPEED_FLOOR_MPS);
+    s->drive_force_n = fmin(s->drive_force_lag_n, p->max_power / v_driven);
+    s->pressure += m->k.alpha_brake * (delayed_brake(s, p->brake) - s->pressure);
+}
+
+void plant_step(PlantModel *m) {
+    const PlantVariables *p = &m->var;
+    PlantState *s = &m->st;
+    const double h = PLANT_STEP_S;
+    powertrain_and_brake_step(m);
+    double fz[PLANT_AXLES];
+    axle_loads(m, fz);
+    double fx = axle_step(m, PLANT_FRONT, fz[PLANT_FRONT]) + axle_step(m, PLANT_REAR, fz[PLANT_REAR]);
+    double v = s->v_mps;
+    double f_aero = 0.5 * p->air_density * p->drag_area * v * v;
+    double f_grade = p->mass * GRAVITY_MPS2 * sin(p->grade);
+    double f_roll = p->rolling_resistance * p->mass * GRAVITY_MPS2 * cos(p->grade);
+    /* Rolling resistance is Coulomb-like: it stops the car but never reverses it. */
+    double v_new = v + h * (fx - f_aero - f_grade) / p->mass;
+    v_new = v_new > 0.0 ? fmax(0.0, v_new - h * f_roll / p->mass) : 0.0;
+    s->a_mps2 = (v_new - v) / h;
+    s->x_m += 0.5 * (v + v_new) * h;
+    s->v_mps = v_new;
+}
+
+void plant_publish_outputs(PlantModel *m) {
+    PlantVariables *p = &m->var;
+    const PlantState *s = &m->st;
+    p->x = s->x_m;
+    p->v = s->v_mps;
+    p->a = s->a_mps2;
+    p->wheel_speed_fl = s->omega_radps[PLANT_FRONT];
+    p->wheel_speed_fr = s->omega_radps[PLANT_FRONT];
+    p->wheel_speed_rl = s->omega_radps[PLANT_REAR];
+    p->wheel_speed_rr = s->omega_radps[PLANT_REAR];
+    p->brake_pressure = s->pressure * p->max_brake_force;
+    p->drive_force = s->drive_force_n;
+}
