@@ -1,0 +1,85 @@
+"""Co-simulation figures (issue 5, "Figures").
+
+Run: ``python benchmarks/bench_cosim.py [--scenario F] [--skip-paper]``.
+
+* each paper run with the full CAN path in-process: × real time (goal >= 200);
+* cost per 10 ms ECU cycle split into FMU, codec, bus, ECU, logging (and the
+  driver/radar models), from a second, instrumented run;
+* the plant alone stepped by fmpy over the same simulated time (same 1 ms
+  steps, same reads), and the ratio closed loop / plant alone;
+* ``crd paper`` wall time (goal <= 10 s once the FMU is built) and peak RSS
+  (goal <= 300 MB), measured on a child process.
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from cosim.cli.paper import PAPER_SCENARIO
+from cosim.experiment import resolve_fmu
+from cosim.master import PHASES, run_scenario
+from cosim.plant_fmu import FmuPlant
+from cosim.scenario_loader import load_scenario
+
+
+def plant_alone_s(scenario, fmu_path: Path, sim_time_s: float) -> float:
+    """Wall time of the plant alone over ``sim_time_s``: same steps, a full read per 10 ms."""
+    h = scenario.scenario.step_s
+    n_sub = int(round(0.01 / h))
+    cycles = int(round(sim_time_s / 0.01))
+    with FmuPlant(scenario.plant, fmu_path) as plant:
+        t0 = time.perf_counter()
+        k = 0
+        for _ in range(cycles):
+            plant.read()
+            plant.set_actuation(1.0, 0.0)
+            for _ in range(n_sub):
+                plant.step(k * h, h)
+                k += 1
+        return time.perf_counter() - t0
+
+
+def bench_runs(scenario_path: Path) -> None:
+    sc = load_scenario(scenario_path)
+    fmu = resolve_fmu(sc)
+    print(f"scenario {scenario_path.name}, plant {fmu.name} (FMI {sc.plant.fmi_version}), step {sc.scenario.step_s} s")
+    print(f"{'strategy':<13} {'sim s':>6} {'wall s':>7} {'x real':>7} {'plant s':>7} {'ratio':>6}  "
+          + "  ".join(f"{p:>7}" for p in PHASES) + "   (µs per 10 ms cycle)")
+    for strategy in ("none", "conservative", "tightening"):
+        rec = run_scenario(sc, fmu, strategy)
+        sim, wall = rec.metrics.sim_time_s, rec.metrics.wall_time_s
+        cost = run_scenario(sc, fmu, strategy, profile=True).cycle_cost_s
+        alone = plant_alone_s(sc, fmu, sim)
+        print(f"{strategy:<13} {sim:6.2f} {wall:7.3f} {sim / wall:7.1f} {alone:7.3f} {wall / alone:6.1f}  "
+              + "  ".join(f"{cost[p] * 1e6:7.1f}" for p in PHASES)
+              + f"   total {sum(cost.values()) * 1e6:.1f}")
+
+
+def bench_paper() -> None:
+    with tempfile.TemporaryDirectory() as out:
+        t0 = time.perf_counter()
+        proc = subprocess.run([sys.executable, "-m", "cosim.cli.main", "paper", "--out", out],
+                              capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+    peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0
+    print(f"crd paper: wall {wall:.2f} s, peak RSS {peak_mb:.0f} MB, exit {proc.returncode}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scenario", type=Path, default=PAPER_SCENARIO)
+    parser.add_argument("--skip-paper", action="store_true")
+    args = parser.parse_args()
+    bench_runs(args.scenario)
+    if not args.skip_paper:
+        bench_paper()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,45 @@
+"""``crd paper [--scenario F] [--out DIR]``: the paper's experiment in one command.
+
+Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``,
+writes every run's outputs and ``speed_profiles.png``, prints a table and each
+claim of the paper with PASS or FAIL (:mod:`cosim.paper_claims`), and exits 3
+if any claim fails.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..experiment import run_strategies
+from ..paper_claims import REQUIRED, evaluate
+from ..scenario_loader import load_scenario
+from .progress import end_progress, progress_printer, results_table
+
+PAPER_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper_cyclist.toml"
+EXIT_CLAIM_FAILED = 3
+
+
+def add_subparser(subparsers: argparse._SubParsersAction) -> None:
+    p = subparsers.add_parser("paper", help="reproduce the paper's three speed profiles and check its claims")
+    p.add_argument("--scenario", type=Path, default=PAPER_SCENARIO, help="scenario (default: paper_cyclist.toml)")
+    p.add_argument("--out", type=Path, default=Path("out/paper"), help="output directory (default out/paper)")
+    p.set_defaults(func=_do_paper)
+
+
+def _do_paper(args: argparse.Namespace) -> int:
+    scenario = load_scenario(args.scenario)
+    print(f"crd paper: {args.scenario.name}, strategies {', '.join(REQUIRED)} -> {args.out}", file=sys.stderr)
+    records = run_strategies(scenario, list(REQUIRED), args.out, progress=progress_printer)
+    end_progress()
+    print(results_table(records))
+    errors = [f"{r.strategy}: {r.error}" for r in records if r.error]
+    if errors:
+        raise RuntimeError("; ".join(errors))
+    claims = evaluate(records)
+    print()
+    for claim in claims:
+        print(f"[{'PASS' if claim.passed else 'FAIL'}] claim {claim.number}: {claim.text}\n        {claim.detail}")
+    print(f"\nspeed profiles: {args.out / 'speed_profiles.png'}")
+    return 0 if all(c.passed for c in claims) else EXIT_CLAIM_FAILED

@@ -1,0 +1,45 @@
+"""``crd run SCENARIO.toml [--strategy S] [--out DIR] [--can-log NAME]``: one scenario.
+
+Exit status 0 when every ``[checks]`` expectation holds, 3 when one fails
+(each printed), 1 on an error (bad scenario, missing/broken FMU, FMI error:
+results up to the error are still written).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..experiment import check_run, run_strategies
+from ..scenario_config import STRATEGIES
+from ..scenario_loader import load_scenario
+from .progress import end_progress, progress_printer, results_table
+
+EXIT_CHECK_FAILED = 3
+
+
+def add_subparser(subparsers: argparse._SubParsersAction) -> None:
+    p = subparsers.add_parser("run", help="run one closed-loop scenario (plant FMU + CAN + ECU)")
+    p.add_argument("scenario", type=Path, help="scenario TOML file")
+    p.add_argument("--strategy", choices=STRATEGIES, help="override the scenario's [ecu] strategy")
+    p.add_argument("--out", type=Path, default=Path("out/run"), help="output directory (default out/run)")
+    p.add_argument("--can-log", default="can.blf",
+                   help="CAN log file name; the suffix picks the format (.blf, .asc, .log, .csv...)")
+    p.set_defaults(func=_do_run)
+
+
+def _do_run(args: argparse.Namespace) -> int:
+    scenario = load_scenario(args.scenario)
+    strategy = args.strategy or scenario.ecu.strategy
+    print(f"crd run {args.scenario} (strategy {strategy}) -> {args.out}", file=sys.stderr)
+    records = run_strategies(scenario, [strategy], args.out, args.can_log, progress=progress_printer)
+    end_progress()
+    print(results_table(records))
+    record = records[0]
+    if record.error:
+        raise RuntimeError(f"{record.error} (results up to then written to {args.out})")
+    failed = check_run(scenario, record)
+    for message in failed:
+        print(f"CHECK FAILED: {message}")
+    return EXIT_CHECK_FAILED if failed else 0

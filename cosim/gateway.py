@@ -1,0 +1,101 @@
+"""The actuator gateway: plays the brake and powertrain ECUs (node ESC).
+
+It checks every ``SafetyOverride`` like any receiver (E2E CRC, counter,
+range, via :class:`can_dbc.Receiver`) and applies it to the driver's pedals:
+
+* throttle = min(AccelPedal, ThrottleLimit) while ``OverrideActive``, else AccelPedal;
+* brake    = max(BrakePedal, BrakeDecelRequest / brake_full_decel_mps2), clipped to 1.
+
+If no fresh valid ``SafetyOverride`` arrived within ``override_timeout_s``,
+or the receiver's E2E validity score says the message is invalid, it falls
+back to the driver's commands alone and records an event; it records another
+when valid frames return. Time is passed in; nothing reads a clock.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import can
+
+from can_dbc import Receiver
+
+from .driver_models import Pedals
+from .scenario_config import GatewayConfig
+
+log = logging.getLogger(__name__)
+
+MODES = {0: "STANDBY", 1: "TIGHTENING", 2: "CONTINGENCY", 3: "FAULT"}
+TIMEOUT_MODE = "NO_OVERRIDE"  # reported while falling back to the driver alone
+
+
+@dataclass(frozen=True, slots=True)
+class Actuation:
+    """Plant commands, both 0..1."""
+
+    throttle: float
+    brake: float
+
+
+@dataclass(frozen=True, slots=True)
+class GatewayEvent:
+    t_s: float
+    kind: str  # "override_timeout" | "override_restored"
+    detail: str
+
+
+class Gateway:
+    """Applies ``SafetyOverride`` frames to the driver's pedals."""
+
+    def __init__(self, cfg: GatewayConfig) -> None:
+        self._cfg = cfg
+        self._rx = Receiver(names=["SafetyOverride"])
+        self._last_fresh_t_s = 0.0  # the first timeout window starts at t = 0
+        self._signals: dict | None = None
+        self.fallback = False
+        self.mode = "STANDBY"
+        self.contingency_invocations = 0
+        self.events: list[GatewayEvent] = []
+
+    def offer(self, msg: can.Message, t_s: float) -> bool:
+        """Take one frame from the bus; returns True if it was a fresh valid ``SafetyOverride``."""
+        frame = self._rx.receive(msg)
+        if frame is None:
+            return False
+        mode = MODES[int(frame.signals["Mode"])]
+        if mode == "CONTINGENCY" and self.mode != "CONTINGENCY":
+            self.contingency_invocations += 1
+        self.mode = mode
+        self._signals = dict(frame.signals)
+        self._last_fresh_t_s = t_s
+        return True
+
+    def _update_fallback(self, t_s: float) -> None:
+        silent_s = t_s - self._last_fresh_t_s
+        lost = silent_s > self._cfg.override_timeout_s + 1e-9 or not self._rx.is_valid("SafetyOverride")
+        if lost and not self.fallback:
+            detail = (f"no valid SafetyOverride for {silent_s:.3f} s (timeout {self._cfg.override_timeout_s} s),"
+                      f" E2E score {self._rx.score('SafetyOverride')}")
+            self.events.append(GatewayEvent(t_s, "override_timeout", detail))
+            log.warning("t=%.3f s: %s; driver commands only", t_s, detail)
+            self.mode = TIMEOUT_MODE
+        elif not lost and self.fallback:
+            self.events.append(GatewayEvent(t_s, "override_restored", "valid SafetyOverride again"))
+            log.info("t=%.3f s: SafetyOverride restored", t_s)
+        self.fallback = lost
+
+    def actuation(self, pedals: Pedals, t_s: float) -> Actuation:
+        """The plant's throttle and brake (0..1) for the cycle starting at ``t_s``."""
+        self._update_fallback(t_s)
+        throttle_pct, brake = pedals.accel_pct, pedals.brake_pct / 100.0
+        sig = self._signals
+        if not self.fallback and sig is not None:
+            if sig["OverrideActive"]:
+                throttle_pct = min(throttle_pct, sig["ThrottleLimit"])
+            brake = max(brake, sig["BrakeDecelRequest"] / self._cfg.brake_full_decel_mps2)
+        return Actuation(min(1.0, max(0.0, throttle_pct / 100.0)), min(1.0, max(0.0, brake)))
+
+    @property
+    def stats(self) -> dict[str, int]:
+        return dict(self._rx.stats)

@@ -1,0 +1,240 @@
+"""Any co-simulation FMU (FMI 2 or 3) as the vehicle plant, through fmpy.
+
+Roles (``[plant.inputs]``/``[plant.outputs]``) are resolved to value
+references once, at start-up; a mapped name the FMU lacks, or of the wrong
+causality, raises :class:`~cosim.errors.MappingError` listing the FMU's
+variables of the right causality. In the loop the wrapper calls fmpy's FMI
+functions with pre-built ctypes arrays (one set, one step, one get per call),
+and turns an FMI error into :class:`~cosim.errors.FmiStepError` naming the
+time and the FMI status.
+
+Conversions (SI on our side): output ``si = fmu * scale + offset``; input
+``fmu = role * scale + offset``. An ``accel_command`` FMU gets
+``throttle * accel_gain_mps2 - brake * brake_gain_mps2`` (m/s²). Wheel
+speeds in m/s are the wheel outputs (rad/s) × ``wheel_radius_m``, or the
+vehicle speed on every wheel when the FMU has no wheel outputs.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import logging
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+
+from .errors import FmiStepError, MappingError, PlantError
+from .scenario_config import PlantConfig, SignalMap
+
+log = logging.getLogger(__name__)
+
+_STATUS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
+_REAL_TYPES = ("Real", "Float64", "Float32")
+
+
+@dataclass(frozen=True, slots=True)
+class PlantSample:
+    """Plant outputs in SI: m, m/s, m/s², and four wheel speeds × radius in m/s."""
+
+    position_m: float
+    speed_mps: float
+    accel_mps2: float
+    wheel_speeds_mps: tuple[float, float, float, float]
+
+
+def file_sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 16), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _variables_by(md, causality: str) -> list[str]:
+    return sorted(v.name for v in md.modelVariables if v.causality == causality)
+
+
+def _resolve(md, names: tuple[str, ...], causality: str, where: str) -> list:
+    by_name = {v.name: v for v in md.modelVariables}
+    found = []
+    for name in names:
+        var = by_name.get(name)
+        if var is None or var.causality != causality or (causality != "parameter" and var.type not in _REAL_TYPES):
+            actual = "missing" if var is None else f"causality {var.causality!r}, type {var.type}"
+            raise MappingError(
+                f"{where}: FMU variable {name!r} is {actual}; expected a real {causality}."
+                f" The FMU's {causality}s are: {', '.join(_variables_by(md, causality)) or '(none)'}"
+            )
+        found.append(var)
+    return found
+
+
+class FmuPlant:
+    """The plant FMU, instantiated, initialised and ready to :meth:`step`."""
+
+    def __init__(self, cfg: PlantConfig, fmu_path: Path, start_time_s: float = 0.0) -> None:
+        self.path = Path(fmu_path)
+        if not self.path.is_file():
+            raise PlantError(f"plant FMU not found: expected a file at {self.path}")
+        self.sha256 = file_sha256(self.path)
+        try:
+            md = read_model_description(str(self.path))
+        except Exception as exc:  # noqa: BLE001 - any broken archive becomes one typed error
+            raise PlantError(f"{self.path}: not a readable FMU: {exc}") from exc
+        if md.coSimulation is None:
+            raise PlantError(f"{self.path}: expected a co-simulation FMU, got model exchange only")
+        self.fmi_version = int(md.fmiVersion[0])
+        self._cfg = cfg
+        self._md = md
+        self._resolve_roles()
+        self._unzipdir = extract(str(self.path))
+        self._fmu = None
+        try:
+            self._open(start_time_s)
+        except PlantError:
+            self.close()
+            raise
+
+    # -- set-up -----------------------------------------------------------
+    def _resolve_roles(self) -> None:
+        md, cfg = self._md, self._cfg
+        self._in_maps: list[SignalMap] = list(cfg.inputs)
+        in_vars = [_resolve(md, m.names, "input", f"plant.inputs.{m.role}")[0] for m in self._in_maps]
+        out = {m.role: (m, _resolve(md, m.names, "output", f"plant.outputs.{m.role}")) for m in cfg.outputs}
+        self._params = [(v, cfg.parameters[v.name]) for v in
+                        _resolve(md, tuple(cfg.parameters), "parameter", "plant.parameters")]
+        self._out_maps = [out[r][0] for r in ("position", "speed", "accel", "wheel_speeds") if r in out]
+        out_vrs = [v.valueReference for r in ("position", "speed", "accel", "wheel_speeds") if r in out
+                   for v in out[r][1]]
+        self._in_vr = (ctypes.c_uint32 * len(in_vars))(*[v.valueReference for v in in_vars])
+        self._in_val = (ctypes.c_double * len(in_vars))()
+        self._out_vr = (ctypes.c_uint32 * len(out_vrs))(*out_vrs)
+        self._out_val = (ctypes.c_double * len(out_vrs))()
+        self._pv_vr = (ctypes.c_uint32 * 2)(*self._out_vr[:2])  # position, speed (always mapped first)
+        self._pv_val = (ctypes.c_double * 2)()
+
+    def _open(self, start_time_s: float) -> None:
+        from fmpy.fmi2 import FMU2Slave
+        from fmpy.fmi3 import FMU3Slave
+
+        cls = FMU2Slave if self.fmi_version == 2 else FMU3Slave
+        guid = self._md.guid if self.fmi_version == 2 else self._md.instantiationToken
+        try:
+            self._fmu = cls(guid=guid, unzipDirectory=self._unzipdir,
+                            modelIdentifier=self._md.coSimulation.modelIdentifier, instanceName="plant")
+            self._fmu.instantiate()
+            if self.fmi_version == 2:
+                self._fmu.setupExperiment(startTime=start_time_s)
+            self._set_parameters()
+            if self.fmi_version == 2:
+                self._fmu.enterInitializationMode()
+            else:
+                self._fmu.enterInitializationMode(startTime=start_time_s)
+            self._bind_hot_path()
+            self.set_actuation(0.0, 0.0)
+            self._fmu.exitInitializationMode()
+        except FMICallException as exc:
+            raise PlantError(f"{self.path}: FMU refused initialisation: {exc}"
+                             " (check [plant.parameters] against the FMU's ranges)") from exc
+        except OSError as exc:
+            raise PlantError(f"{self.path}: cannot load the FMU's binary: {exc}") from exc
+
+    def _set_parameters(self) -> None:
+        fmu, v2 = self._fmu, self.fmi_version == 2
+        for var, value in self._params:
+            vr = [var.valueReference]
+            if var.type == "Boolean":
+                fmu.setBoolean(vr, [bool(value)])
+            elif var.type in ("Integer", "Int32", "Int64"):
+                (fmu.setInteger if v2 else fmu.setInt32)(vr, [int(value)])
+            else:
+                (fmu.setReal if v2 else fmu.setFloat64)(vr, [float(value)])
+
+    def _bind_hot_path(self) -> None:
+        fmu = self._fmu
+        if self.fmi_version == 2:
+            self._do_step = lambda t, h: fmu.fmi2DoStep(fmu.component, t, h, 1)
+            self._get = lambda vr, val: fmu.fmi2GetReal(fmu.component, vr, len(vr), val)
+            self._set = lambda vr, val: fmu.fmi2SetReal(fmu.component, vr, len(vr), val)
+        else:
+            flags = [ctypes.c_bool() for _ in range(3)]
+            last = ctypes.c_double()
+            refs = [ctypes.byref(f) for f in flags] + [ctypes.byref(last)]
+            self._do_step = lambda t, h: fmu.fmi3DoStep(fmu.component, t, h, True, *refs)
+            self._get = lambda vr, val: fmu.fmi3GetFloat64(fmu.component, vr, len(vr), val, len(val))
+            self._set = lambda vr, val: fmu.fmi3SetFloat64(fmu.component, vr, len(vr), val, len(val))
+
+    # -- the loop -----------------------------------------------------------
+    def set_actuation(self, throttle: float, brake: float) -> None:
+        """Set the plant's inputs from throttle and brake commands (0..1)."""
+        cfg, val = self._cfg, self._in_val
+        for i, m in enumerate(self._in_maps):
+            if m.role == "throttle":
+                x = throttle
+            elif m.role == "brake":
+                x = brake
+            elif m.role == "accel_command":
+                x = throttle * cfg.accel_gain_mps2 - brake * cfg.brake_gain_mps2
+            else:  # road_friction
+                x = cfg.road_friction
+            val[i] = x * m.scale + m.offset
+        if self._fmu is not None and len(val):
+            self._call(self._set, self._in_vr, val, t_s=None, what="set inputs")
+
+    def _call(self, fn, *args, t_s: float | None, what: str) -> None:
+        try:
+            fn(*args)
+        except FMICallException as exc:
+            status = f"fmi{self.fmi_version}{_STATUS[exc.status] if 0 <= exc.status < 6 else exc.status}"
+            at = "" if t_s is None else f" at t = {t_s:.6f} s"
+            raise FmiStepError(f"plant FMU failed to {what}{at}: {exc.function} returned {status}",
+                               time_s=t_s if t_s is not None else float("nan"), status=status) from exc
+
+    def step(self, t_s: float, h_s: float) -> None:
+        """Advance from communication point ``t_s`` by ``h_s`` seconds."""
+        self._call(self._do_step, t_s, h_s, t_s=t_s, what="step")
+
+    def position_speed(self) -> tuple[float, float]:
+        """Position (m) and speed (m/s) only: the cheap read used between ECU cycles."""
+        self._call(self._get, self._pv_vr, self._pv_val, t_s=None, what="get outputs")
+        p, s = self._out_maps[0], self._out_maps[1]
+        return self._pv_val[0] * p.scale + p.offset, self._pv_val[1] * s.scale + s.offset
+
+    def read(self) -> PlantSample:
+        """All mapped outputs, in SI."""
+        self._call(self._get, self._out_vr, self._out_val, t_s=None, what="get outputs")
+        raw, i, si = self._out_val, 0, {}
+        for m in self._out_maps:
+            si[m.role] = [raw[i + j] * m.scale + m.offset for j in range(len(m.names))]
+            i += len(m.names)
+        speed = si["speed"][0]
+        radius = self._cfg.wheel_radius_m
+        wheels = [w * radius for w in si["wheel_speeds"]] if "wheel_speeds" in si else [speed]
+        four = tuple(wheels[i % len(wheels)] for i in range(4))  # fewer than 4 names: repeated in order
+        return PlantSample(si["position"][0], speed, si.get("accel", [0.0])[0], four)
+
+    def close(self) -> None:
+        """Terminate and free the FMU; safe to call twice."""
+        fmu, self._fmu = self._fmu, None
+        if fmu is not None:
+            try:
+                fmu.terminate()
+            except FMICallException as exc:
+                log.warning("plant FMU terminate failed: %s", exc)
+            try:
+                fmu.freeInstance()
+            except Exception as exc:  # noqa: BLE001 - best effort after a failure
+                log.warning("plant FMU freeInstance failed: %s", exc)
+        if self._unzipdir:
+            shutil.rmtree(self._unzipdir, ignore_errors=True)
+            self._unzipdir = None
+
+    def __enter__(self) -> "FmuPlant":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()

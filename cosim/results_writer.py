@@ -1,0 +1,104 @@
+"""Writers for a run's outputs (``--out DIR``).
+
+* ``metrics.json``: ``{"runs": [...], "provenance": {...}}``;
+* ``<strategy>/timeseries.csv``: one row per 10 ms ECU cycle;
+* ``<strategy>/can.blf`` (or the suffix given): every bus frame with its
+  simulation time stamp, through python-can's loggers (format from the suffix);
+* ``<strategy>/events.json``: gateway fallbacks, collision, FMI error;
+* ``config.resolved.toml``: every resolved value, loadable by ``crd run``;
+  its header and ``metrics.json`` carry the FMU's sha256, the package version
+  and the seed.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from dataclasses import fields
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+from typing import Iterable
+
+import can
+
+from .run_record import TIMESERIES_COLUMNS, RunRecord
+from .scenario_config import Scenario
+from .scenario_resolve import scenario_to_dict
+from .toml_writer import dumps
+
+
+def package_version() -> str:
+    try:
+        return version("crd")
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def provenance(scenario: Scenario, records: Iterable[RunRecord]) -> dict:
+    records = list(records)
+    return {
+        "package_version": package_version(),
+        "seed": scenario.scenario.seed,
+        "fmu_path": records[0].fmu_path if records else "",
+        "fmu_sha256": records[0].fmu_sha256 if records else "",
+        "fmi_version": scenario.plant.fmi_version if scenario.plant.fmu == "builtin" else None,
+    }
+
+
+def _finite(x):
+    return None if isinstance(x, float) and not math.isfinite(x) else x
+
+
+def write_metrics(path: Path, records: Iterable[RunRecord], prov: dict) -> None:
+    runs = []
+    for r in records:
+        entry = {k: _finite(v) for k, v in r.metrics.as_dict().items()}
+        entry["error"] = r.error
+        runs.append(entry)
+    path.write_text(json.dumps({"runs": runs, "provenance": prov}, indent=2) + "\n")
+
+
+def write_timeseries(path: Path, record: RunRecord) -> None:
+    with open(path, "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(TIMESERIES_COLUMNS)
+        for row in record.rows:
+            writer.writerow([f"{v:.6g}" if isinstance(v, float) and k else (f"{v:.3f}" if k == 0 else v)
+                             for k, v in enumerate(row)])
+
+
+def write_can_log(path: Path, record: RunRecord) -> None:
+    """All frames through ``can.Logger`` (the writer class chosen by the file suffix)."""
+    with can.Logger(str(path)) as logger:
+        for f in record.frames:
+            logger.on_message_received(can.Message(timestamp=f.t_s, arbitration_id=f.arbitration_id,
+                                                   data=f.data, is_extended_id=False, channel=0))
+
+
+def write_events(path: Path, record: RunRecord) -> None:
+    events = [{"t_s": e.t_s, "kind": e.kind, "detail": e.detail} for e in record.events]
+    path.write_text(json.dumps({"events": events, "error": record.error}, indent=2) + "\n")
+
+
+def write_resolved_config(path: Path, scenario: Scenario, ecu_config, prov: dict) -> None:
+    data = scenario_to_dict(scenario, strategy=ecu_config.strategy)
+    data["ecu"].update({f.name: getattr(ecu_config, f.name) for f in fields(ecu_config) if f.init})
+    header = "\n".join([
+        "Resolved scenario: every value used by the run (defaults included); `crd run` reads it.",
+        f"package version: {prov['package_version']}",
+        f"seed: {prov['seed']}",
+        f"plant FMU: {prov['fmu_path']}",
+        f"plant FMU sha256: {prov['fmu_sha256']}",
+    ])
+    path.write_text(dumps(data, header=header))
+
+
+def write_run(out_dir: Path, record: RunRecord, can_log_name: str = "can.blf") -> Path:
+    """Write one strategy's files under ``out_dir/<strategy>/``; returns that directory."""
+    run_dir = out_dir / record.strategy
+    run_dir.mkdir(parents=True, exist_ok=True)
+    write_timeseries(run_dir / "timeseries.csv", record)
+    write_can_log(run_dir / can_log_name, record)
+    write_events(run_dir / "events.json", record)
+    return run_dir

@@ -1,0 +1,61 @@
+"""What one closed-loop run produces: its time series, frame log, events and metrics."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+TIMESERIES_COLUMNS = ("time_s", "position_m", "speed_mps", "accel_mps2", "throttle", "brake",
+                      "ecu_mode", "gap_m", "accel_pedal_pct", "brake_pedal_pct")
+
+
+@dataclass(frozen=True, slots=True)
+class LoggedFrame:
+    """One bus frame with its simulation time stamp (s)."""
+
+    t_s: float
+    arbitration_id: int
+    data: bytes
+
+
+@dataclass(frozen=True, slots=True)
+class RunEvent:
+    t_s: float
+    kind: str
+    detail: str
+
+
+@dataclass
+class RunMetrics:
+    """The ``metrics.json`` entry of one run (SI units; ``None`` where not applicable)."""
+
+    strategy: str
+    collided: bool = False
+    impact_speed_mps: float | None = None
+    min_gap_m: float | None = None
+    final_gap_m: float | None = None
+    contingency_invocations: int = 0
+    max_speed_mps: float = 0.0
+    sim_time_s: float = 0.0
+    wall_time_s: float = 0.0
+
+    def as_dict(self) -> dict:
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
+@dataclass
+class RunRecord:
+    """Everything a run leaves behind; kept even when the run stops on an error."""
+
+    strategy: str
+    metrics: RunMetrics
+    rows: list[tuple] = field(default_factory=list)  # TIMESERIES_COLUMNS, one per ECU cycle
+    frames: list[LoggedFrame] = field(default_factory=list)
+    events: list[RunEvent] = field(default_factory=list)
+    error: str | None = None
+    fmu_path: str = ""
+    fmu_sha256: str = ""
+    cycle_cost_s: dict[str, float] = field(default_factory=dict)  # filled when profiling
+
+    def column(self, name: str) -> list:
+        i = TIMESERIES_COLUMNS.index(name)
+        return [row[i] for row in self.rows]

@@ -1,0 +1,193 @@
+"""The scenario as frozen dataclasses: one per TOML section.
+
+Every field carries its unit in its name and its allowed range in
+``metadata["range"]`` (closed interval) or ``metadata["choices"]``; the loader
+(:mod:`cosim.scenario_loader`) enforces both and rejects unknown keys.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Mapping
+
+STRATEGIES = ("none", "conservative", "tightening")
+ECU_CYCLE_S = 0.01  # the contract's SafetyOverride / DriverInput cycle (DBC GenMsgCycleTime 10 ms)
+OBJECT_TRACK_PERIOD_S = 0.05  # the contract's ObjectTrack cycle (DBC GenMsgCycleTime 50 ms)
+
+
+def _r(lo: float, hi: float) -> dict:
+    return {"range": (lo, hi)}
+
+
+def _c(*choices: object) -> dict:
+    return {"choices": choices}
+
+
+@dataclass(frozen=True)
+class ScenarioSection:
+    """``[scenario]``: name, simulated duration (s), plant step (s), seed."""
+
+    name: str = "scenario"
+    duration_s: float = field(default=30.0, metadata=_r(0.01, 3600.0))
+    step_s: float = field(default=0.001, metadata=_r(1e-4, ECU_CYCLE_S))
+    seed: int = field(default=0, metadata=_r(0, 2**63 - 1))
+
+
+@dataclass(frozen=True)
+class SignalMap:
+    """One role of ``[plant.inputs]``/``[plant.outputs]`` mapped to FMU variables.
+
+    Outputs: ``si = fmu_value * scale + offset``.
+    Inputs: ``fmu_value = role_value * scale + offset``.
+    ``names`` has one entry, except ``wheel_speeds`` (1 to 4 names, rad/s after scaling).
+    """
+
+    role: str
+    names: tuple[str, ...]
+    scale: float = 1.0
+    offset: float = 0.0
+
+
+INPUT_ROLES = ("throttle", "brake", "accel_command", "road_friction")
+OUTPUT_ROLES = ("position", "speed", "accel", "wheel_speeds")
+
+BUILTIN_INPUTS = (
+    SignalMap("throttle", ("throttle",)),
+    SignalMap("brake", ("brake",)),
+    SignalMap("road_friction", ("road_friction",)),
+)
+BUILTIN_OUTPUTS = (
+    SignalMap("position", ("x",)),
+    SignalMap("speed", ("v",)),
+    SignalMap("accel", ("a",)),
+    SignalMap("wheel_speeds", ("wheel_speed_fl", "wheel_speed_fr", "wheel_speed_rl", "wheel_speed_rr")),
+)
+
+
+@dataclass(frozen=True)
+class PlantConfig:
+    """``[plant]``: which FMU, its parameters and how its variables map to roles.
+
+    ``accel_gain_mps2``/``brake_gain_mps2`` drive an ``accel_command`` FMU:
+    ``accel_command = throttle * accel_gain_mps2 - brake * brake_gain_mps2`` (m/s²).
+    ``wheel_radius_m`` converts wheel speeds (rad/s → m/s) and derives them
+    from the speed when the FMU has none. ``front_bumper_offset_m`` is the
+    front bumper's position relative to the FMU's position output.
+    """
+
+    fmu: str = "builtin"
+    fmi_version: int = field(default=3, metadata=_c(2, 3))
+    road_friction: float = field(default=1.0, metadata=_r(0.0, 1.5))
+    wheel_radius_m: float = field(default=0.31, metadata=_r(0.05, 2.0))
+    front_bumper_offset_m: float = field(default=0.0, metadata=_r(-10.0, 10.0))
+    accel_gain_mps2: float = field(default=3.0, metadata=_r(0.0, 20.0))
+    brake_gain_mps2: float = field(default=9.0, metadata=_r(0.0, 20.0))
+    parameters: Mapping[str, float | bool] = field(default_factory=lambda: MappingProxyType({}))
+    inputs: tuple[SignalMap, ...] = BUILTIN_INPUTS
+    outputs: tuple[SignalMap, ...] = BUILTIN_OUTPUTS
+
+    def input_map(self, role: str) -> SignalMap | None:
+        return next((m for m in self.inputs if m.role == role), None)
+
+    def output_map(self, role: str) -> SignalMap | None:
+        return next((m for m in self.outputs if m.role == role), None)
+
+
+@dataclass(frozen=True)
+class DriverConfig:
+    """``[driver]``: the guidance model.
+
+    ``full_throttle``: accelerator at ``accel_pedal_pct`` always (the paper's distracted driver).
+    ``cruise``: P control on speed, ``pedal% = gain_pct_per_mps * (set_speed_mps - v)``,
+    positive to the accelerator, negative to the brake.
+    ``scripted``: ``points`` = rows ``[at, accel_pct, brake_pct]`` with ``at`` in s
+    (``over = "time"``) or m (``over = "position"``), linearly interpolated, held at the ends.
+    """
+
+    model: str = field(default="full_throttle", metadata=_c("full_throttle", "cruise", "scripted"))
+    accel_pedal_pct: float = field(default=100.0, metadata=_r(0.0, 100.0))
+    set_speed_mps: float = field(default=20.0, metadata=_r(0.0, 80.0))
+    gain_pct_per_mps: float = field(default=20.0, metadata=_r(0.0, 1000.0))
+    over: str = field(default="time", metadata=_c("time", "position"))
+    points: tuple[tuple[float, float, float], ...] = ()
+
+
+@dataclass(frozen=True)
+class ObjectConfig:
+    """``[object]``: one object in the lane, stationary or at constant speed.
+
+    ``position_m`` is the object's rear at t = 0 on the path; it occupies
+    ``[rear, rear + length_m]`` and moves at ``speed_mps`` along the path.
+    """
+
+    enabled: bool = True
+    position_m: float = field(default=225.0, metadata=_r(-1e5, 1e5))
+    speed_mps: float = field(default=0.0, metadata=_r(-80.0, 80.0))
+    length_m: float = field(default=1.8, metadata=_r(0.0, 50.0))
+    lateral_m: float = field(default=0.0, metadata=_r(-20.0, 20.0))
+
+
+@dataclass(frozen=True)
+class RadarConfig:
+    """``[radar]``: range (front bumper → object rear) and range rate every 50 ms.
+
+    ``latency_s`` is rounded to whole ECU cycles; noise is zero-mean Gaussian
+    with the given standard deviations from a generator seeded by
+    ``[scenario] seed``; beyond ``max_range_m`` or on a dropout (probability
+    per update) the track reports ``ObjectValid = 0``.
+    """
+
+    latency_s: float = field(default=0.0, metadata=_r(0.0, 1.0))
+    range_noise_std_m: float = field(default=0.0, metadata=_r(0.0, 10.0))
+    range_rate_noise_std_mps: float = field(default=0.0, metadata=_r(0.0, 10.0))
+    max_range_m: float = field(default=200.0, metadata=_r(1.0, 250.0))
+    dropout_probability: float = field(default=0.0, metadata=_r(0.0, 1.0))
+
+
+@dataclass(frozen=True)
+class GatewayConfig:
+    """``[gateway]``: the brake/powertrain ECU that applies ``SafetyOverride``.
+
+    ``brake_full_decel_mps2`` maps the ECU's deceleration request to a brake
+    command: ``brake = min(1, request / brake_full_decel_mps2)``. Default
+    12 m/s² = the builtin plant's ``max_brake_force / mass`` = 18000 N / 1500 kg.
+    ``override_timeout_s``: silence (or an invalid E2E score) longer than this
+    falls back to the driver's commands alone.
+    """
+
+    brake_full_decel_mps2: float = field(default=12.0, metadata=_r(1.0, 30.0))
+    override_timeout_s: float = field(default=0.05, metadata=_r(0.01, 1.0))
+
+
+@dataclass(frozen=True)
+class EcuSection:
+    """``[ecu]``: the strategy and any ``EcuConfig`` parameter (checked by ``EcuConfig.from_dict``)."""
+
+    strategy: str = field(default="tightening", metadata=_c(*STRATEGIES))
+    parameters: Mapping[str, object] = field(default_factory=lambda: MappingProxyType({}))
+
+
+@dataclass(frozen=True)
+class ChecksConfig:
+    """``[checks]``: expectations on the run's metrics; ``None`` = not checked."""
+
+    no_collision: bool | None = None
+    min_gap_m: float | None = field(default=None, metadata=_r(-1e5, 1e5))
+    max_impact_speed_mps: float | None = field(default=None, metadata=_r(0.0, 200.0))
+    min_contingency_invocations: int | None = field(default=None, metadata=_r(0, 10**6))
+    max_contingency_invocations: int | None = field(default=None, metadata=_r(0, 10**6))
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A whole scenario file."""
+
+    scenario: ScenarioSection = ScenarioSection()
+    plant: PlantConfig = PlantConfig()
+    driver: DriverConfig = DriverConfig()
+    object: ObjectConfig = ObjectConfig()
+    radar: RadarConfig = RadarConfig()
+    gateway: GatewayConfig = GatewayConfig()
+    ecu: EcuSection = EcuSection()
+    checks: ChecksConfig = ChecksConfig()

@@ -1,0 +1,68 @@
+"""The output gate: the last guard between the planner and the bus. Deny by default.
+
+Every output is checked on its own: a value that is not finite or lies
+outside its DBC range is replaced by its safe value and the intervention is
+counted. Safe values deny: ``ThrottleLimit = 0 %`` (no throttle authority),
+``BrakeDecelRequest = 0`` (no unrequested braking; the driver's own brake
+stays effective), ``Mode = FAULT``; after any replacement the throttle limit
+is also set to its safe value. Values are quantised to the DBC
+resolution so the pass-through test below is exact.
+
+``OverrideActive`` is 0 only when the outputs equal the pass-through values
+``ThrottleLimit = 100 %`` and ``BrakeDecelRequest = 0``; any doubt means 1.
+The limits mirror ``SafetyOverride`` in ``can_dbc/active_safety.dbc``
+(a test checks they agree); the core does not load the DBC itself.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+from .types import Mode
+
+THROTTLE_RANGE_PCT = (0.0, 100.0)
+THROTTLE_RESOLUTION_PCT = 0.1
+DECEL_RANGE_MPS2 = (0.0, 15.0)
+DECEL_RESOLUTION_MPS2 = 0.01
+SAFE_THROTTLE_PCT = 0.0
+SAFE_DECEL_MPS2 = 0.0
+PASS_THROUGH_THROTTLE_PCT = 100.0
+PASS_THROUGH_DECEL_MPS2 = 0.0
+_THROTTLE_STEPS_PER_PCT = float(round(1.0 / THROTTLE_RESOLUTION_PCT))
+_DECEL_STEPS_PER_MPS2 = float(round(1.0 / DECEL_RESOLUTION_MPS2))
+
+
+class GatedOutputs(NamedTuple):
+    mode: Mode
+    override_active: bool
+    throttle_limit_pct: float
+    brake_decel_request_mps2: float
+    interventions: int
+
+
+def _checked(value: float, limits: tuple[float, float], steps_per_unit: float, safe: float) -> tuple[float, bool]:
+    if value.__class__ not in (float, int) or not math.isfinite(value):
+        return safe, True
+    # dividing by a power of ten gives the float nearest to the decimal, so equality tests are exact
+    quantised = round(value * steps_per_unit) / steps_per_unit
+    if not limits[0] <= quantised <= limits[1]:
+        return safe, True
+    return quantised, False
+
+
+def gate(mode: object, throttle_limit_pct: float, decel_request_mps2: float) -> GatedOutputs:
+    """Check and quantise one cycle's outputs; count every replaced value."""
+    throttle, bad_throttle = _checked(throttle_limit_pct, THROTTLE_RANGE_PCT,
+                                      _THROTTLE_STEPS_PER_PCT, SAFE_THROTTLE_PCT)
+    decel, bad_decel = _checked(decel_request_mps2, DECEL_RANGE_MPS2,
+                                _DECEL_STEPS_PER_MPS2, SAFE_DECEL_MPS2)
+    bad_mode = mode.__class__ is not Mode
+    safe_mode = Mode.FAULT if bad_mode else mode
+    if bad_throttle or bad_decel or bad_mode:
+        # Any doubt about this cycle's decision withdraws throttle authority altogether.
+        safe_mode = Mode.FAULT
+        throttle = SAFE_THROTTLE_PCT
+    pass_through = throttle == PASS_THROUGH_THROTTLE_PCT and decel == PASS_THROUGH_DECEL_MPS2
+    return GatedOutputs(safe_mode, not pass_through, throttle, decel,
+                        int(bad_throttle) + int(bad_decel) + int(bad_mode))

@@ -1,0 +1,87 @@
+"""Parameters of the pure ECU core: one frozen dataclass, every number a field.
+
+Units are SI and named in the field. The three strategies of the paper
+(Johnson 2019, section III) are named exactly ``none``, ``conservative`` and
+``tightening``; each selects a model-deceleration fraction (0.9, 0.8, 0.9) and
+``tightening`` additionally enables constraint tightening
+(:mod:`ecu.core.strategies`). The derived fields ``model_decel_mps2`` and
+``tightening_enabled`` are computed once at construction so the cycle does no
+table lookups:
+
+    model_decel_mps2 = fraction(strategy) * peak_decel_mps2
+
+Range checks live in :mod:`ecu.config` (the one loader); the core trusts its
+parameters.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+#: strategy name -> the DBC enumeration value of ``EcuStatus.Strategy``.
+STRATEGIES: dict[str, int] = {"none": 0, "conservative": 1, "tightening": 2}
+#: driven axle name -> wheel indices (FL, FR, RL, RR order) of the *non-driven* wheels.
+NON_DRIVEN_WHEELS: dict[str, tuple[int, ...]] = {
+    "front": (2, 3),
+    "rear": (0, 1),
+    "all": (0, 1, 2, 3),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class CoreParams:
+    """Everything the core's arithmetic depends on (defaults are the lead's starting values)."""
+
+    strategy: str = "tightening"
+    cycle_s: float = 0.01
+    #: declared delay from our frame to the brake/powertrain acting on it.
+    actuation_latency_s: float = 0.1
+    #: peak achievable deceleration of the vehicle on dry road.
+    peak_decel_mps2: float = 9.0
+    none_decel_fraction: float = 0.9
+    conservative_decel_fraction: float = 0.8
+    tightening_decel_fraction: float = 0.9
+    #: the stopping path must end at least this far before the object.
+    standoff_m: float = 2.0
+    #: acceleration attributed to a fully pressed accelerator pedal.
+    driver_max_accel_mps2: float = 3.0
+    #: proximity grows from 0 to 1 over this distance in front of the standoff.
+    proximity_range_m: float = 40.0
+    #: deceleration requested by the contingency (full braking).
+    contingency_decel_mps2: float = 9.0
+    #: "front", "rear" or "all"; the plant is front-wheel driven.
+    driven_axle: str = "front"
+    #: allowance on top of the physical limits in the speed estimate's slope limiter.
+    speed_slope_margin_mps2: float = 2.0
+    #: an object faster than this (absolute, along our path) counts as moving.
+    moving_object_speed_mps: float = 0.5
+    #: below this estimated speed the car counts as stopped (releases a held contingency).
+    standstill_speed_mps: float = 0.1
+    wheel_speeds_timeout_s: float = 0.05
+    driver_input_timeout_s: float = 0.05
+    object_timeout_s: float = 0.25
+    #: an input is invalid while its E2E validity score (can_dbc) is at or above this.
+    e2e_invalid_score: int = 5
+    #: consecutive all-valid cycles needed to leave FAULT (also at start-up).
+    fault_recovery_cycles: int = 10
+
+    model_decel_mps2: float = field(init=False, repr=False, compare=False)
+    tightening_enabled: bool = field(init=False, repr=False, compare=False)
+    strategy_code: int = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        fractions = {
+            "none": self.none_decel_fraction,
+            "conservative": self.conservative_decel_fraction,
+            "tightening": self.tightening_decel_fraction,
+        }
+        if self.strategy not in fractions:
+            raise ValueError(f"strategy: expected one of {sorted(fractions)}, got {self.strategy!r}")
+        object.__setattr__(self, "model_decel_mps2", fractions[self.strategy] * self.peak_decel_mps2)
+        object.__setattr__(self, "tightening_enabled", self.strategy == "tightening")
+        object.__setattr__(self, "strategy_code", STRATEGIES[self.strategy])
+
+    @property
+    def hold_time_s(self) -> float:
+        """t_h = cycle_s + actuation_latency_s: how long the driver's command is assumed held."""
+        return self.cycle_s + self.actuation_latency_s

@@ -1,0 +1,135 @@
+"""One 10 ms cycle of the ECU core: ``step(state, inputs, params) -> (state, outputs)``.
+
+Order within the cycle:
+
+1. validity: fault flags from timeouts, E2E scores and plausibility
+   (:mod:`ecu.core.validity`);
+2. speed: reference-speed estimate from the wheels if they are valid, else
+   held — or dead-reckoned down at the model deceleration while a held
+   contingency brakes (:mod:`ecu.core.speed_estimate`);
+3. plan: driver intent, proximity and tightening, the stopping path of the
+   (tightened) command and its disjointness (:mod:`ecu.core.strategies`,
+   :mod:`ecu.core.stopping_path`);
+4. mode: the state machine (:mod:`ecu.core.modes`);
+5. outputs for the mode, then the output gate (:mod:`ecu.core.output_gate`).
+
+Pure: no I/O, no clock, no logging; the same state and inputs give the same
+result. Never raises for finite or non-finite float inputs; the shell still
+guards against exceptions (internal fault).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from .modes import ModeDecision, next_mode, planned_mode
+from .output_gate import gate
+from .params import CoreParams
+from .speed_estimate import coast_down_speed_mps, update_speed_mps
+from .stopping_path import is_disjoint, path_distance_m
+from .strategies import NO_TIGHTENING, driver_accel_mps2, proximity, tighten
+from .types import CoreInputs, CoreOutputs, CoreState, FaultFlag, Mode
+from .validity import fault_flags, wheel_speeds_valid
+
+_STANDBY, _TIGHTENING, _CONTINGENCY, _FAULT = Mode.STANDBY, Mode.TIGHTENING, Mode.CONTINGENCY, Mode.FAULT
+
+
+class Plan(NamedTuple):
+    """The planner's result for this cycle, before the mode and the gate."""
+
+    proximity: float
+    throttle_limit_pct: float
+    decel_request_mps2: float
+    tightening_restricts: bool
+    stopping_distance_m: float
+    disjoint: bool
+
+
+def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> Plan:
+    """Tighten the driver's command (if the strategy says so) and check its stopping path."""
+    valid = inputs.object_valid
+    p = proximity(valid, inputs.object_range_m, params)
+    tight = tighten(p, params) if params.tightening_enabled else NO_TIGHTENING
+    command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), tight.accel_upper_mps2)
+    distance = path_distance_m(speed_mps, command, valid, inputs.object_range_rate_mps, params)
+    return Plan(p, tight.throttle_limit_pct, tight.decel_request_mps2, tight.restricts, distance,
+                is_disjoint(distance, valid, inputs.object_range_m, params))
+
+
+def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[float, bool, float]:
+    """(speed estimate, initialised, wheel mean) after this cycle."""
+    if not wheel_speeds_valid(inputs, params):
+        speed = state.speed_mps
+        if state.held_contingency or state.mode is _CONTINGENCY:
+            speed = coast_down_speed_mps(speed, params.model_decel_mps2, params.cycle_s)
+        return speed, state.speed_initialised, state.prev_wheel_mean_mps
+    wheels = inputs.wheel_speeds_mps
+    mean = sum(wheels) / 4.0
+    braking = (
+        inputs.brake_pedal > 0.0
+        or state.prev_decel_request_mps2 > 0.0
+        or (state.speed_initialised and mean < state.prev_wheel_mean_mps)
+    )
+    speed = update_speed_mps(state.speed_mps, state.speed_initialised, wheels, braking, params)
+    return speed, True, mean
+
+
+def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[float, float]:
+    """(throttle limit %, deceleration request m/s^2) for the decided mode."""
+    mode = decision.mode
+    if mode is _CONTINGENCY:
+        return 0.0, params.contingency_decel_mps2
+    if mode is _TIGHTENING:
+        return plan.throttle_limit_pct, plan.decel_request_mps2
+    if mode is _STANDBY:
+        return 100.0, 0.0
+    if decision.held_contingency:
+        return 0.0, params.contingency_decel_mps2
+    if decision.recovering:  # valid data: braking may be requested, throttle stays withheld
+        decel = params.contingency_decel_mps2 if not plan.disjoint else plan.decel_request_mps2
+        return 0.0, decel
+    return 0.0, 0.0
+
+
+def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[CoreState, CoreOutputs]:
+    """Run one cycle; return the next state and the gated outputs."""
+    flags = fault_flags(inputs, params)
+    speed, initialised, wheel_mean = _next_speed(state, inputs, params)
+    plan = plan_cycle(speed, inputs, params)
+    contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
+        state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
+    decision = next_mode(
+        flags,
+        planned_mode(plan.disjoint, plan.tightening_restricts),
+        state.valid_cycles,
+        contingency_active,
+        speed <= params.standstill_speed_mps,
+        params,
+    )
+    throttle, decel = _commands(decision, plan, params)
+    gated = gate(decision.mode, throttle, decel)
+    if gated.interventions:
+        flags |= 1 << FaultFlag.INTERNAL
+    new_state = CoreState(
+        mode=gated.mode,
+        speed_mps=speed,
+        speed_initialised=initialised,
+        prev_wheel_mean_mps=wheel_mean,
+        prev_decel_request_mps2=gated.brake_decel_request_mps2,
+        valid_cycles=decision.valid_cycles,
+        held_contingency=decision.held_contingency,
+        gate_interventions=state.gate_interventions + gated.interventions,
+    )
+    outputs = CoreOutputs(
+        mode=gated.mode,
+        override_active=gated.override_active,
+        throttle_limit_pct=gated.throttle_limit_pct,
+        brake_decel_request_mps2=gated.brake_decel_request_mps2,
+        fault_flags=flags,
+        proximity=plan.proximity,
+        stopping_distance_m=plan.stopping_distance_m,
+        speed_estimate_mps=speed,
+        disjoint=plan.disjoint,
+        gate_intervened=gated.interventions > 0,
+    )
+    return new_state, outputs

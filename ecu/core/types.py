@@ -1,0 +1,86 @@
+"""The core's frozen records: inputs, state and outputs of one 10 ms cycle.
+
+All quantities are SI (m, m/s, m/s^2, s); pedals are fractions 0..1; the
+``*_rx_t_s`` fields are the times at which the latest *fresh* frame of each
+input was received (``-inf`` before the first one), and the ``*_e2e_score``
+fields are the codec's E2E validity scores (0 good .. 5 invalid). The shell
+converts DBC units to these at the codec boundary.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import IntEnum
+
+NEVER_S = -math.inf
+
+
+class Mode(IntEnum):
+    """``SafetyOverride.Mode`` of the DBC."""
+
+    STANDBY = 0
+    TIGHTENING = 1
+    CONTINGENCY = 2
+    FAULT = 3
+
+
+class FaultFlag(IntEnum):
+    """Bit numbers of ``EcuStatus.FaultFlags``."""
+
+    WHEEL_SPEED_TIMEOUT = 0
+    DRIVER_INPUT_TIMEOUT = 1
+    OBJECT_TIMEOUT = 2
+    E2E_ERROR = 3
+    INTERNAL = 4
+
+
+@dataclass(frozen=True, slots=True)
+class CoreInputs:
+    """What the ECU knows at cycle time ``t_s``."""
+
+    t_s: float
+    wheel_speeds_mps: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)  # FL, FR, RL, RR
+    accel_pedal: float = 0.0
+    brake_pedal: float = 0.0
+    object_valid: bool = False
+    object_range_m: float = 0.0
+    object_range_rate_mps: float = 0.0  # negative = closing
+    wheel_rx_t_s: float = NEVER_S
+    driver_rx_t_s: float = NEVER_S
+    object_rx_t_s: float = NEVER_S
+    wheel_e2e_score: int = 0
+    driver_e2e_score: int = 0
+    object_e2e_score: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class CoreState:
+    """Everything carried from one cycle to the next. The start-up state is ``CoreState()``."""
+
+    mode: Mode = Mode.FAULT
+    speed_mps: float = 0.0
+    speed_initialised: bool = False
+    prev_wheel_mean_mps: float = 0.0
+    prev_decel_request_mps2: float = 0.0
+    #: consecutive cycles with every input valid (saturates at the recovery count).
+    valid_cycles: int = 0
+    #: a contingency active when the fault began, held while faulted.
+    held_contingency: bool = False
+    gate_interventions: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class CoreOutputs:
+    """The cycle's decision, after the output gate (values inside their DBC ranges)."""
+
+    mode: Mode
+    override_active: bool
+    throttle_limit_pct: float
+    brake_decel_request_mps2: float
+    fault_flags: int
+    proximity: float
+    stopping_distance_m: float
+    speed_estimate_mps: float
+    disjoint: bool
+    gate_intervened: bool

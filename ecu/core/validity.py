@@ -1,0 +1,66 @@
+"""Input validity: timeouts from the passed-in time and the codec's E2E score.
+
+An input is invalid while it is timed out or while its E2E validity score is
+at or above ``e2e_invalid_score`` (the score comes from ``can_dbc.Receiver``:
++1 per bad or repeated frame, -1 per good fresh frame). Ages are
+``t_s - rx_t_s`` with ``rx_t_s`` the time of the latest fresh frame, so no
+clock is read here. Timeouts (issue 4): WheelSpeeds and DriverInput 50 ms,
+ObjectTrack 250 ms. ``ObjectValid = 0`` is valid data (no object) and is not
+a fault. Non-finite or physically impossible values that reach the core are an
+internal fault (the codec should have stopped them).
+
+The result is the ``EcuStatus.FaultFlags`` bit field (see :class:`FaultFlag`).
+"""
+
+from __future__ import annotations
+
+import math
+
+from .params import CoreParams
+from .types import CoreInputs, FaultFlag
+
+#: tolerance on age comparisons, so t = k * 0.01 rounding never flips a timeout.
+AGE_TOLERANCE_S = 1e-6
+
+
+def _timed_out(t_s: float, rx_t_s: float, timeout_s: float) -> bool:
+    return not (t_s - rx_t_s <= timeout_s + AGE_TOLERANCE_S)  # NaN counts as timed out
+
+
+def _implausible(inputs: CoreInputs) -> bool:
+    wheels = inputs.wheel_speeds_mps
+    # one sum is finite iff every term is (NaN and inf propagate; our magnitudes cannot overflow)
+    total = (sum(wheels) + inputs.accel_pedal + inputs.brake_pedal + inputs.object_range_m
+             + inputs.object_range_rate_mps + inputs.t_s)
+    if not math.isfinite(total):
+        return True
+    if min(wheels) < 0.0 or inputs.object_range_m < 0.0:
+        return True
+    return not (0.0 <= inputs.accel_pedal <= 1.0 and 0.0 <= inputs.brake_pedal <= 1.0)
+
+
+def fault_flags(inputs: CoreInputs, params: CoreParams) -> int:
+    """The ``FaultFlags`` bit field for this cycle (0 when every input is valid)."""
+    t = inputs.t_s
+    flags = 0
+    if _timed_out(t, inputs.wheel_rx_t_s, params.wheel_speeds_timeout_s):
+        flags |= 1 << FaultFlag.WHEEL_SPEED_TIMEOUT
+    if _timed_out(t, inputs.driver_rx_t_s, params.driver_input_timeout_s):
+        flags |= 1 << FaultFlag.DRIVER_INPUT_TIMEOUT
+    if _timed_out(t, inputs.object_rx_t_s, params.object_timeout_s):
+        flags |= 1 << FaultFlag.OBJECT_TIMEOUT
+    limit = params.e2e_invalid_score
+    if max(inputs.wheel_e2e_score, inputs.driver_e2e_score, inputs.object_e2e_score) >= limit:
+        flags |= 1 << FaultFlag.E2E_ERROR
+    if _implausible(inputs):
+        flags |= 1 << FaultFlag.INTERNAL
+    return flags
+
+
+def wheel_speeds_valid(inputs: CoreInputs, params: CoreParams) -> bool:
+    """Whether this cycle's wheel speeds may update the speed estimate."""
+    return (
+        not _timed_out(inputs.t_s, inputs.wheel_rx_t_s, params.wheel_speeds_timeout_s)
+        and inputs.wheel_e2e_score < params.e2e_invalid_score
+        and all(math.isfinite(v) and v >= 0.0 for v in inputs.wheel_speeds_mps)
+    )

@@ -1,0 +1,145 @@
+"""``EcuNode``: the thin shell that runs the pure core on any ``can.BusABC``.
+
+One cycle (:meth:`EcuNode.step`): drain every frame received since the last
+cycle through the E2E receiver (bad frames are counted and ignored; a fresh
+frame's receive time is the cycle time ``t_s``, so the same frames at the same
+cycle times give the same outputs), run the core, send ``SafetyOverride`` and,
+every ``status_period_cycles``-th cycle, ``EcuStatus``.
+
+Scheduling is separate (:mod:`ecu.scheduler`): lock-step by calling
+``step(t_s)``, real time on the wall clock, or sim time paced by ``SimClock``
+frames (``config.sim_time``), all through :meth:`EcuNode.run`.
+
+Fail safe inside the cycle: an exception in the core is logged and answered
+with a FAULT frame (``ThrottleLimit 0``, internal fault flag; a contingency
+in progress keeps braking); a send error is counted and logged.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections import Counter
+from dataclasses import replace
+
+import can
+
+from can_dbc import LAYOUTS, CounterSequence, Receiver
+
+from .bus_port import INPUT_MESSAGES, SIM_CLOCK, InputLatch, override_message, status_message
+from .config import EcuConfig
+from .core import CoreOutputs, CoreState, FaultFlag, Mode, step as core_step
+from .scheduler import RunReport, run_real_time, run_sim_time
+
+log = logging.getLogger(__name__)
+SIM_CLOCK_ID = LAYOUTS[SIM_CLOCK].frame_id
+
+
+class EcuNode:
+    """The active-safety ECU on ``bus``. It does not own the bus (the caller shuts it down)."""
+
+    def __init__(self, bus: can.BusABC, config: EcuConfig | None = None) -> None:
+        self.bus = bus
+        self.config = config if config is not None else EcuConfig()
+        self._receiver = Receiver(names=(*INPUT_MESSAGES, SIM_CLOCK))
+        self._latch = InputLatch()
+        self._state = CoreState()
+        self._override_counter = CounterSequence()
+        self._status_counter = CounterSequence()
+        self._cycle_index = 0
+        self._pending: list[can.Message] = []
+        self.outputs: CoreOutputs | None = None
+        self._errors: Counter[str] = Counter()
+
+    @property
+    def mode(self) -> str:
+        """``"STANDBY" | "TIGHTENING" | "CONTINGENCY" | "FAULT"``."""
+        return self._state.mode.name
+
+    @property
+    def state(self) -> CoreState:
+        return self._state
+
+    @property
+    def cycles(self) -> int:
+        return self._cycle_index
+
+    @property
+    def stats(self) -> dict[str, int]:
+        """Counts: received frames by outcome (``good``, ``UnknownFrame``, ``ChecksumError``...),
+        ``gate_interventions``, ``tx_errors``, ``internal_errors``, ``cycles``."""
+        counts = dict(self._receiver.stats)
+        counts.update(self._errors)
+        counts["gate_interventions"] = self._state.gate_interventions
+        counts["cycles"] = self._cycle_index
+        return counts
+
+    def step(self, t_s: float) -> CoreOutputs:
+        """One cycle at simulation time ``t_s``: drain the bus, run the core, send."""
+        while (msg := self.bus.recv(timeout=0.0)) is not None:
+            self._ingest(msg, t_s)
+        return self._cycle(t_s)
+
+    def on_sim_message(self, msg: can.Message) -> CoreOutputs | None:
+        """Sim-time pacing: buffer ``msg``; a valid ``SimClock`` frame runs one cycle at SimTimeMs."""
+        if msg.arbitration_id != SIM_CLOCK_ID or msg.is_extended_id:
+            self._pending.append(msg)
+            return None
+        frame = self._receiver.receive(msg)
+        if frame is None:
+            return None
+        t_s = frame.signals["SimTimeMs"] / 1000.0
+        pending, self._pending = self._pending, []
+        for earlier in pending:
+            self._ingest(earlier, t_s)
+        return self._cycle(t_s)
+
+    def run(self, stop_event: threading.Event) -> RunReport:
+        """Run until ``stop_event`` is set: on the wall clock, or per SimClock if ``config.sim_time``."""
+        if self.config.sim_time:
+            return run_sim_time(self, stop_event)
+        return run_real_time(self, stop_event, self.config.cycle_s)
+
+    def ingest(self, msg: can.Message, t_s: float) -> None:
+        """Check one received frame now and latch it as received at cycle time ``t_s``."""
+        self._ingest(msg, t_s)
+
+    def _ingest(self, msg: can.Message, t_s: float) -> None:
+        frame = self._receiver.receive(msg)
+        if frame is not None:
+            self._latch.ingest(frame, t_s)
+
+    def _cycle(self, t_s: float) -> CoreOutputs:
+        inputs = self._latch.inputs(t_s, self._receiver)
+        try:
+            self._state, outputs = core_step(self._state, inputs, self.config)
+        except Exception:  # noqa: BLE001 - fail safe inside the cycle
+            log.exception("core step failed at t=%.3f s; sending FAULT", t_s)
+            self._errors["internal_errors"] += 1
+            outputs = self._internal_fault()
+        self.outputs = outputs
+        self._send(override_message(outputs, self._override_counter.next()))
+        if self._cycle_index % self.config.status_period_cycles == 0:
+            self._send(status_message(outputs, self.config.strategy_code, self._status_counter.next()))
+        self._cycle_index += 1
+        return outputs
+
+    def _internal_fault(self) -> CoreOutputs:
+        state = self._state
+        braking = state.held_contingency or state.mode == Mode.CONTINGENCY
+        decel = self.config.contingency_decel_mps2 if braking else 0.0
+        self._state = replace(state, mode=Mode.FAULT, valid_cycles=0, held_contingency=braking,
+                              prev_decel_request_mps2=decel)
+        return CoreOutputs(
+            mode=Mode.FAULT, override_active=True, throttle_limit_pct=0.0,
+            brake_decel_request_mps2=decel, fault_flags=1 << FaultFlag.INTERNAL,
+            proximity=0.0, stopping_distance_m=0.0, speed_estimate_mps=state.speed_mps,
+            disjoint=False, gate_intervened=False,
+        )
+
+    def _send(self, msg: can.Message) -> None:
+        try:
+            self.bus.send(msg)
+        except can.CanError as exc:
+            self._errors["tx_errors"] += 1
+            log.warning("send of 0x%03X failed: %s", msg.arbitration_id, exc)

@@ -1,0 +1,145 @@
+"""Schedulers for :class:`ecu.node.EcuNode`: real time on the wall clock, or sim time.
+
+Real time: cycle ``k`` is due at the absolute deadline ``t0 + k * cycle_s``
+on ``time.perf_counter`` (never accumulated, so there is no drift); until the
+deadline the loop blocks in ``bus.recv`` and takes frames in as they arrive
+(stamped with the coming cycle's time ``k * cycle_s``, exactly as the drain
+in ``step`` would), then runs ``node.step(k * cycle_s)``. If a cycle
+starts a whole period or more late, the cycles it overran are counted as
+missed and skipped (the next deadline stays on the grid). Figures:
+
+* lag = start - deadline (s);
+* jitter = |(start_k - start_{k-1}) - cycle_s| between consecutive cycles (s);
+* step = the cycle's own run time (s).
+
+Percentiles are nearest-rank over the most recent ``WINDOW`` cycles (one
+hour at 100 Hz); maxima are over the whole run.
+
+Sim time: one cycle per valid ``SimClock`` frame, after the frames received
+before it, at ``t_s = SimTimeMs / 1000`` (see ``EcuNode.on_sim_message``).
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections import deque
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Iterable
+
+if TYPE_CHECKING:
+    from .node import EcuNode
+
+WINDOW = 360_000
+RECV_POLL_S = 0.05
+
+
+@dataclass(frozen=True, slots=True)
+class Percentiles:
+    p50: float
+    p99: float
+    max: float
+
+    @classmethod
+    def of(cls, values: Iterable[float], maximum: float) -> "Percentiles":
+        ordered = sorted(values)
+        if not ordered:
+            return cls(0.0, 0.0, maximum)
+        def rank(q: float) -> float:
+            return ordered[min(len(ordered) - 1, max(0, int(round(q * len(ordered))) - 1))]
+        return cls(rank(0.50), rank(0.99), maximum)
+
+    def ms(self) -> str:
+        return f"p50 {self.p50 * 1e3:.3f} p99 {self.p99 * 1e3:.3f} max {self.max * 1e3:.3f} ms"
+
+
+@dataclass(frozen=True, slots=True)
+class RunReport:
+    """What a run did and how punctual it was (all durations in s)."""
+
+    scheduling: str  # "real-time" | "sim-time"
+    cycles: int
+    missed_cycles: int
+    lag_s: Percentiles
+    jitter_s: Percentiles
+    step_s: Percentiles
+
+    def summary(self) -> str:
+        return (f"{self.scheduling}: {self.cycles} cycles, {self.missed_cycles} missed; "
+                f"lag {self.lag_s.ms()}; jitter {self.jitter_s.ms()}; step {self.step_s.ms()}")
+
+
+class _Samples:
+    def __init__(self) -> None:
+        self.values: deque[float] = deque(maxlen=WINDOW)
+        self.maximum = 0.0
+
+    def add(self, value: float) -> None:
+        self.values.append(value)
+        if value > self.maximum:
+            self.maximum = value
+
+    def percentiles(self) -> Percentiles:
+        return Percentiles.of(self.values, self.maximum)
+
+
+def run_real_time(node: "EcuNode", stop_event: threading.Event, cycle_s: float) -> RunReport:
+    """Cycle on absolute wall-clock deadlines until ``stop_event`` is set."""
+    clock = time.perf_counter
+    lag, jitter, duration = _Samples(), _Samples(), _Samples()
+    cycles = missed = 0
+    k = 0
+    previous_start = None
+    t0 = clock()
+    while not stop_event.is_set():
+        deadline = t0 + k * cycle_s
+        _receive_until(node, deadline, k * cycle_s, clock)
+        start = clock()
+        late = start - deadline
+        if late >= cycle_s:
+            skipped = int(late // cycle_s)
+            missed += skipped
+            k += skipped
+            late -= skipped * cycle_s
+            previous_start = None  # the period across a skip is not jitter
+        node.step(k * cycle_s)
+        duration.add(clock() - start)
+        lag.add(late)
+        if previous_start is not None:
+            jitter.add(abs(start - previous_start - cycle_s))
+        previous_start = start
+        cycles += 1
+        k += 1
+    return RunReport("real-time", cycles, missed, lag.percentiles(), jitter.percentiles(),
+                     duration.percentiles())
+
+
+def _receive_until(node: "EcuNode", deadline: float, t_s: float, clock) -> None:
+    """Wait for the deadline while taking frames in as they arrive (they belong to cycle ``t_s``).
+
+    Spreading the decoding over the idle time keeps a flood of frames from piling up
+    into one long drain at the start of the cycle.
+    """
+    bus = node.bus
+    while (remaining := deadline - clock()) > 0.0:
+        msg = bus.recv(timeout=remaining)
+        if msg is not None:
+            node.ingest(msg, t_s)
+
+
+def run_sim_time(node: "EcuNode", stop_event: threading.Event) -> RunReport:
+    """One cycle per ``SimClock`` frame until ``stop_event`` is set."""
+    clock = time.perf_counter
+    duration = _Samples()
+    cycles = 0
+    bus = node.bus
+    while not stop_event.is_set():
+        msg = bus.recv(timeout=RECV_POLL_S)
+        if msg is None:
+            continue
+        start = clock()
+        if node.on_sim_message(msg) is not None:
+            duration.add(clock() - start)
+            cycles += 1
+    none = Percentiles(0.0, 0.0, 0.0)
+    return RunReport("sim-time", cycles, 0, none, none, duration.percentiles())

@@ -1,0 +1,59 @@
+"""Scenario loader: strict keys with suggestions, ranges, round trip of the resolved file."""
+
+import tomllib
+
+import pytest
+
+from cosim.errors import ConfigError
+from cosim.scenario_loader import load_scenario, scenario_from_dict
+from cosim.scenario_resolve import scenario_to_toml
+from cosim.cli.paper import PAPER_SCENARIO
+
+
+@pytest.mark.parametrize("data, path, suggestion", [
+    ({"scenario": {"duraton_s": 3.0}}, "scenario.duraton_s", "duration_s"),
+    ({"plant": {"inputs": {"throtle": "x"}}}, "plant.inputs.throtle", "throttle"),
+    ({"radar": {"latency": 0.1}}, "radar.latency", "latency_s"),
+    ({"objct": {}}, "objct", "object"),
+])
+def test_unknown_key_names_path_and_suggests(data, path, suggestion):
+    with pytest.raises(ConfigError) as err:
+        scenario_from_dict(data)
+    assert repr(path) in str(err.value)
+    assert f"did you mean {suggestion!r}" in str(err.value)
+
+
+@pytest.mark.parametrize("data, fragment", [
+    ({"radar": {"max_range_m": 500.0}}, "radar.max_range_m: expected 1 <= value <= 250, got 500.0"),
+    ({"scenario": {"step_s": 0.003}}, "scenario.step_s"),
+    ({"radar": {"dropout_probability": -0.1}}, "radar.dropout_probability"),
+    ({"driver": {"model": "cruse"}}, "did you mean 'cruise'"),
+    ({"scenario": {"seed": 1.5}}, "scenario.seed: expected an integer"),
+    ({"ecu": {"strategy": "tight"}}, "ecu.strategy"),
+    ({"driver": {"model": "scripted", "points": [[0, 0, 0], [0, 1, 1]]}}, "driver.points[1]"),
+])
+def test_out_of_range_and_bad_values(data, fragment):
+    with pytest.raises(ConfigError) as err:
+        scenario_from_dict(data)
+    assert fragment in str(err.value)
+
+
+def test_third_party_fmu_needs_mappings():
+    with pytest.raises(ConfigError, match="plant.inputs"):
+        scenario_from_dict({"plant": {"fmu": "x.fmu", "inputs": {"throttle": "t"}, "outputs": {"position": "p"}}})
+
+
+def test_file_errors_name_the_file(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[scenario]\nduration = 3\n")
+    with pytest.raises(ConfigError, match=r"bad.toml: unknown key 'scenario.duration'"):
+        load_scenario(bad)
+    with pytest.raises(ConfigError, match="not found"):
+        load_scenario(tmp_path / "missing.toml")
+
+
+def test_paper_scenario_loads_and_resolved_round_trips():
+    sc = load_scenario(PAPER_SCENARIO)
+    assert sc.object.position_m == 225.0 and sc.driver.model == "full_throttle"
+    again = scenario_from_dict(tomllib.loads(scenario_to_toml(sc)))
+    assert again == sc

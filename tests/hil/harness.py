@@ -1,0 +1,257 @@
+"""A send/expect harness for frame-level tests of the ECU as a black box on a CAN bus.
+
+The harness only talks CAN: it builds input frames through ``can_dbc.encode``
+(correct E2E CRC and counters, or deliberately broken ones) and checks the
+ECU's frames through a strict ``can_dbc.Receiver``. How the ECU runs and how
+time passes is a *backend*, chosen by name from :data:`BACKENDS`:
+
+* ``lockstep`` — the harness owns simulated time: each tick sends the frames
+  due, then calls ``EcuNode.step(t)``; deadlines are exact, in sim time;
+* ``realtime`` — the ECU runs ``EcuNode.run`` in a thread on the wall clock;
+  a harness thread sends periodic frames on the wall clock; deadlines are
+  wall-clock and get ``slack_s`` for the OS scheduler.
+
+A ``process`` backend (the ECU as a separate OS process on a cross-process
+bus) fits the same shape: a :class:`RealTimeBackend` with another launcher.
+Tests never see the backend, only :class:`Harness`.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass
+from typing import Callable, Mapping
+
+import can
+
+from can_dbc import COUNTER_MODULUS, Receiver, encode
+from ecu import ECU_CYCLE_S, EcuConfig, EcuNode
+
+OUTPUTS = ("SafetyOverride", "EcuStatus")
+Signals = Mapping[str, float]
+
+
+@dataclass
+class Received:
+    t_s: float
+    name: str
+    signals: dict
+
+
+@dataclass
+class _Periodic:
+    signals: dict
+    period_s: float
+    counter: int | None
+    next_s: float
+
+
+class Harness:
+    """``send``/``expect`` on a bus shared with the ECU under test."""
+
+    def __init__(self, bus: can.BusABC, backend: "Backend") -> None:
+        self.bus = bus
+        self.backend = backend
+        self._rx = Receiver(names=OUTPUTS)
+        self._counters: dict[str, int] = {}
+        self._periodic: dict[str, _Periodic] = {}
+        self._lock = threading.Lock()
+        self.last_sent_s: dict[str, float] = {}
+        self.received: list[Received] = []
+        self.sent = 0
+
+    # -- sending ----------------------------------------------------------
+    def send(self, name: str, signals: Signals, *, counter: int | None = None, bad_crc: bool = False) -> None:
+        """Send one frame now; ``counter`` overrides the sequence, ``bad_crc`` flips the CRC."""
+        with self._lock:
+            if counter is None:
+                counter = (self._counters.get(name, -1) + 1) % COUNTER_MODULUS
+                if not bad_crc:  # a corrupted frame does not use up a counter value
+                    self._counters[name] = counter
+            msg = encode(name, dict(signals), counter=counter)
+            if bad_crc:
+                msg.data[0] ^= 0xFF
+            self.bus.send(msg)
+            self.last_sent_s[name] = self.backend.now_s()
+            self.sent += 1
+
+    def send_raw(self, msg: can.Message) -> None:
+        with self._lock:
+            self.bus.send(msg)
+            self.sent += 1
+
+    def periodic(self, name: str, signals: Signals | None, period_s: float = ECU_CYCLE_S,
+                 counter: int | None = None) -> None:
+        """Send ``name`` every ``period_s`` from now on (first one now); ``None`` stops it."""
+        with self._lock:
+            if signals is None:
+                self._periodic.pop(name, None)
+                return
+            self._periodic[name] = _Periodic(dict(signals), period_s, counter, self.backend.now_s())
+        self.send_due(self.backend.now_s())
+
+    def send_due(self, now_s: float) -> None:
+        """Send every periodic frame due at ``now_s`` (called by the backend)."""
+        with self._lock:
+            due = [(n, p) for n, p in self._periodic.items() if p.next_s <= now_s + 1e-9]
+            for _, p in due:
+                p.next_s += p.period_s * max(1, int((now_s - p.next_s) // p.period_s) + 1)
+        for name, p in due:
+            self.send(name, p.signals, counter=p.counter)
+
+    # -- receiving ---------------------------------------------------------
+    def _pump(self) -> list[Received]:
+        new = []
+        for msg in self.backend.advance(self):
+            frame = self._rx.check(msg)  # the ECU's own frames must be well-formed
+            new.append(Received(self.backend.frame_time_s(msg), frame.name, dict(frame.signals)))
+        self.received.extend(new)
+        return new
+
+    def expect(self, name: str, predicate: Callable[[dict], bool] | Signals, timeout_s: float,
+               since_s: float | None = None) -> Received:
+        """The first ``name`` frame matching within ``timeout_s`` (+ the backend's slack) of ``since_s``."""
+        match = predicate if callable(predicate) else _equals(predicate)
+        start = self.backend.now_s() if since_s is None else since_s
+        deadline = start + timeout_s + self.backend.slack_s
+        seen: list[Received] = []
+        while True:
+            for rec in self._pump():
+                if rec.name != name:
+                    continue
+                if rec.t_s > deadline + 1e-9:
+                    break
+                seen.append(rec)
+                if match(rec.signals):
+                    return rec
+            if self.backend.now_s() > deadline + 1e-9:
+                tail = [r.signals for r in seen[-3:]]
+                raise AssertionError(f"expected a matching {name} within {timeout_s + self.backend.slack_s:.3f} s "
+                                     f"of t={start:.3f} s; got {len(seen)} others, last {tail}")
+
+    def collect(self, name: str, duration_s: float) -> list[Received]:
+        """Every ``name`` frame received over the next ``duration_s``."""
+        end = self.backend.now_s() + duration_s
+        frames = []
+        while self.backend.now_s() < end - 1e-9:
+            frames.extend(r for r in self._pump() if r.name == name)
+        return frames
+
+    def close(self) -> None:
+        self.backend.stop()
+        self.bus.shutdown()
+
+
+def _equals(expected: Signals) -> Callable[[dict], bool]:
+    return lambda s: all(abs(s[k] - v) < 1e-6 for k, v in expected.items())
+
+
+class LockStepBackend:
+    """The harness owns time: a tick sends the due frames, then runs ``node.step(t)``."""
+
+    slack_s = 0.0
+
+    def __init__(self, config: EcuConfig, channel: str) -> None:
+        self._bus = can.Bus(interface="virtual", channel=channel)
+        self.node = EcuNode(self._bus, config)
+        self._k = 0
+        self._tx_t_s = 0.0
+
+    def now_s(self) -> float:
+        return self._k * ECU_CYCLE_S
+
+    def advance(self, harness: Harness) -> list[can.Message]:
+        t = self.now_s()
+        harness.send_due(t)
+        self.node.step(t)
+        self._tx_t_s = t
+        self._k += 1
+        out = []
+        while (msg := harness.bus.recv(timeout=0.0)) is not None:
+            out.append(msg)
+        return out
+
+    def frame_time_s(self, msg: can.Message) -> float:
+        return self._tx_t_s
+
+    def stop(self) -> None:
+        self._bus.shutdown()
+
+
+class ThreadLauncher:
+    """Runs ``EcuNode.run`` in a thread of this process."""
+
+    def __init__(self, config: EcuConfig, channel: str) -> None:
+        self._bus = can.Bus(interface="virtual", channel=channel)
+        self.node = EcuNode(self._bus, config)
+        self._stop = threading.Event()
+        self.report = None
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        self.report = self.node.run(self._stop)
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join(timeout=5.0)
+        self._bus.shutdown()
+
+
+class RealTimeBackend:
+    """Wall-clock time; the ECU runs on its own (launcher); periodic frames from a thread."""
+
+    #: scheduler allowance on every wall-clock deadline (shared CI machines jitter by ~10 ms).
+    slack_s = 0.1
+    poll_s = 0.002
+
+    def __init__(self, config: EcuConfig, channel: str, launcher=ThreadLauncher) -> None:
+        self._t0 = time.perf_counter()
+        self._launched = launcher(config, channel)
+        self.node = getattr(self._launched, "node", None)
+        self._stop = threading.Event()
+        self._sender: threading.Thread | None = None
+
+    def attach(self, harness: Harness) -> None:
+        def loop() -> None:
+            while not self._stop.wait(0.001):
+                harness.send_due(self.now_s())
+        self._sender = threading.Thread(target=loop, daemon=True)
+        self._sender.start()
+
+    def now_s(self) -> float:
+        return time.perf_counter() - self._t0
+
+    def advance(self, harness: Harness) -> list[can.Message]:
+        msg = harness.bus.recv(timeout=self.poll_s)
+        out = []
+        while msg is not None:
+            out.append(msg)
+            msg = harness.bus.recv(timeout=0.0)
+        return out
+
+    def frame_time_s(self, msg: can.Message) -> float:
+        return self.now_s()
+
+    def stop(self) -> None:
+        self._stop.set()
+        if self._sender is not None:
+            self._sender.join(timeout=5.0)
+        self._launched.stop()
+
+
+Backend = LockStepBackend | RealTimeBackend
+BACKENDS: dict[str, Callable[[EcuConfig, str], Backend]] = {
+    "lockstep": LockStepBackend,
+    "realtime": RealTimeBackend,
+}
+
+
+def start(mode: str, config: EcuConfig, channel: str) -> Harness:
+    """A harness around a fresh ECU on ``channel`` run by the ``mode`` backend."""
+    backend = BACKENDS[mode](config, channel)
+    harness = Harness(can.Bus(interface="virtual", channel=channel), backend)
+    if hasattr(backend, "attach"):
+        backend.attach(harness)
+    return harness
