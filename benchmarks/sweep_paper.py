@@ -18,7 +18,7 @@ from cosim.scenario_loader import load_scenario
 
 GRID = {
     "actuation_latency_s": (0.1, 0.2, 0.3),
-    "proximity_range_m": (40.0, 80.0, 120.0),
+    "proximity_margin_m": (6.0, 10.0, 14.0),
 }
 
 

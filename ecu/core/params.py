@@ -45,14 +45,21 @@ class CoreParams:
     standoff_m: float = 2.0
     #: acceleration attributed to a fully pressed accelerator pedal.
     driver_max_accel_mps2: float = 3.0
-    #: proximity grows from 0 to 1 over this distance in front of the standoff.
-    proximity_range_m: float = 40.0
-    #: deceleration requested by the contingency (full braking).
-    contingency_decel_mps2: float = 9.0
+    #: constraint tightening: proximity grows from 0 to 1 as the nominal stopping
+    #: path's margin to the standoff shrinks from this distance to zero.
+    proximity_margin_m: float = 10.0
+    #: deceleration requested by the contingency: full braking, the DBC's full
+    #: scale; the brake ECU saturates it at full pressure (ABS then limits slip).
+    contingency_decel_mps2: float = 15.0
     #: "front", "rear" or "all"; the plant is front-wheel driven.
     driven_axle: str = "front"
     #: allowance on top of the physical limits in the speed estimate's slope limiter.
     speed_slope_margin_mps2: float = 2.0
+    #: after braking was commanded, the speed estimate keeps treating the wheels as
+    #: braked for this long: brake pressure outlives the command by the hydraulic
+    #: dead time plus its decay (0.1 s + 3 x 0.12 s on the plant), and ABS-slipping
+    #: wheels read slow until it has gone.
+    brake_memory_s: float = 0.5
     #: an object faster than this (absolute, along our path) counts as moving.
     moving_object_speed_mps: float = 0.5
     #: below this estimated speed the car counts as stopped (releases a held contingency).

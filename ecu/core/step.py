@@ -26,7 +26,7 @@ from .modes import ModeDecision, next_mode, planned_mode
 from .output_gate import gate
 from .params import CoreParams
 from .speed_estimate import coast_down_speed_mps, update_speed_mps
-from .stopping_path import is_disjoint, path_distance_m
+from .stopping_path import closing_speed_mps, is_disjoint, path_distance_m
 from .strategies import NO_TIGHTENING, driver_accel_mps2, proximity, tighten
 from .types import CoreInputs, CoreOutputs, CoreState, FaultFlag, Mode
 from .validity import fault_flags, wheel_speeds_valid
@@ -48,7 +48,8 @@ class Plan(NamedTuple):
 def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> Plan:
     """Tighten the driver's command (if the strategy says so) and check its stopping path."""
     valid = inputs.object_valid
-    p = proximity(valid, inputs.object_range_m, params)
+    closing_mps = closing_speed_mps(speed_mps, inputs.object_range_rate_mps, params) if valid else 0.0
+    p = proximity(valid, inputs.object_range_m, closing_mps, params)
     tight = tighten(p, params) if params.tightening_enabled else NO_TIGHTENING
     command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), tight.accel_upper_mps2)
     distance = path_distance_m(speed_mps, command, valid, inputs.object_range_rate_mps, params)
@@ -56,22 +57,23 @@ def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> Plan
                 is_disjoint(distance, valid, inputs.object_range_m, params))
 
 
-def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[float, bool, float]:
-    """(speed estimate, initialised, wheel mean) after this cycle."""
+def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[float, bool, float, int]:
+    """(speed estimate, initialised, wheel mean, cycles since braking) after this cycle."""
+    commanded = inputs.brake_pedal > 0.0 or state.prev_decel_request_mps2 > 0.0
+    since_brake = 0 if commanded else min(state.cycles_since_brake + 1, 1_000_000)
     if not wheel_speeds_valid(inputs, params):
         speed = state.speed_mps
-        if state.held_contingency or state.mode is _CONTINGENCY:
+        if state.held_contingency or state.mode == Mode.CONTINGENCY:
             speed = coast_down_speed_mps(speed, params.model_decel_mps2, params.cycle_s)
-        return speed, state.speed_initialised, state.prev_wheel_mean_mps
+        return speed, state.speed_initialised, state.prev_wheel_mean_mps, since_brake
     wheels = inputs.wheel_speeds_mps
     mean = sum(wheels) / 4.0
     braking = (
-        inputs.brake_pedal > 0.0
-        or state.prev_decel_request_mps2 > 0.0
+        since_brake * params.cycle_s < params.brake_memory_s
         or (state.speed_initialised and mean < state.prev_wheel_mean_mps)
     )
     speed = update_speed_mps(state.speed_mps, state.speed_initialised, wheels, braking, params)
-    return speed, True, mean
+    return speed, True, mean, since_brake
 
 
 def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[float, float]:
@@ -94,7 +96,7 @@ def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[f
 def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[CoreState, CoreOutputs]:
     """Run one cycle; return the next state and the gated outputs."""
     flags = fault_flags(inputs, params)
-    speed, initialised, wheel_mean = _next_speed(state, inputs, params)
+    speed, initialised, wheel_mean, since_brake = _next_speed(state, inputs, params)
     plan = plan_cycle(speed, inputs, params)
     contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
         state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
@@ -116,6 +118,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
         speed_initialised=initialised,
         prev_wheel_mean_mps=wheel_mean,
         prev_decel_request_mps2=gated.brake_decel_request_mps2,
+        cycles_since_brake=since_brake,
         valid_cycles=decision.valid_cycles,
         held_contingency=decision.held_contingency,
         gate_interventions=state.gate_interventions + gated.interventions,

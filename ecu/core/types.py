@@ -63,6 +63,8 @@ class CoreState:
     speed_initialised: bool = False
     prev_wheel_mean_mps: float = 0.0
     prev_decel_request_mps2: float = 0.0
+    #: cycles since braking was last commanded (driver pedal or our request); saturates.
+    cycles_since_brake: int = 1_000_000
     #: consecutive cycles with every input valid (saturates at the recovery count).
     valid_cycles: int = 0
     #: a contingency active when the fault began, held while faulted.

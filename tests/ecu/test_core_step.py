@@ -33,7 +33,7 @@ def test_startup_is_fault_with_throttle_zero_then_standby():
 def test_violation_gives_contingency_and_release_when_disjoint_again():
     state, _ = run(lambda t: fresh(t, range_m=200.0), 12)
     state, out = step(state, fresh(0.12, range_m=29.5), P)  # d + 2 = 29.73 > 29.5
-    assert (out.mode, out.throttle_limit_pct, out.brake_decel_request_mps2) == (Mode.CONTINGENCY, 0.0, 9.0)
+    assert (out.mode, out.throttle_limit_pct, out.brake_decel_request_mps2) == (Mode.CONTINGENCY, 0.0, 15.0)
     assert not out.disjoint
     state, out = step(state, fresh(0.13, range_m=30.0), P)  # no hysteresis: the dance
     assert out.mode == Mode.STANDBY and not out.override_active
@@ -48,8 +48,8 @@ def test_contingency_held_through_wheel_timeout_until_estimated_stop():
     faulted = [o for o in outs if o.mode == Mode.FAULT]
     assert faulted and faulted[0].fault_flags & (1 << FaultFlag.WHEEL_SPEED_TIMEOUT)
     braking = [o.brake_decel_request_mps2 for o in faulted]
-    assert braking[0] == 9.0 and braking[-1] == 0.0  # released only once the estimate stops
-    stop_cycles = sum(1 for b in braking if b == 9.0)
+    assert braking[0] == P.contingency_decel_mps2 and braking[-1] == 0.0  # released only once the estimate stops
+    stop_cycles = sum(1 for b in braking if b == P.contingency_decel_mps2)
     assert stop_cycles * 0.01 >= 20.0 / 8.1 - 0.1  # dead-reckoned at D: at least the real stop
     assert all(o.throttle_limit_pct == 0.0 for o in faulted)
 

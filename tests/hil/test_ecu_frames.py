@@ -27,8 +27,18 @@ A_DRV = 3.0
 STANDOFF = 2.0
 
 
+PROXIMITY_MARGIN = 10.0
+CONTINGENCY_DECEL = 15.0
+
+
 def stopping_distance(v: float, a: float, decel: float) -> float:
     return v * T_H + 0.5 * a * T_H**2 + (v + a * T_H) ** 2 / (2 * decel)
+
+
+def proximity(range_m: float, v: float, decel: float) -> float:
+    """Our formalisation: 1 - (margin of the nominal stopping path) / 10 m, clamped."""
+    margin = range_m - STANDOFF - stopping_distance(v, A_DRV, decel)
+    return min(1.0, max(0.0, 1.0 - margin / PROXIMITY_MARGIN))
 
 
 def test_startup_fault_then_standby_and_pass_through(start_ecu):
@@ -50,7 +60,7 @@ def test_violating_object_gives_contingency_in_the_next_cycle(start_ecu):
     assert stopping_distance(20.0, A_DRV, 8.1) + STANDOFF > 25.0  # 29.73 m: violated at 25 m
     h.periodic("ObjectTrack", obj(25.0, -20.0), 0.05)
     rec = h.expect("SafetyOverride", {"Mode": 2}, timeout_s=0.0, since_s=h.last_sent_s["ObjectTrack"])
-    assert rec.signals == {"Mode": 2, "OverrideActive": 1, "ThrottleLimit": 0.0, "BrakeDecelRequest": 9.0}
+    assert rec.signals == {"Mode": 2, "OverrideActive": 1, "ThrottleLimit": 0.0, "BrakeDecelRequest": 15.0}
 
 
 @pytest.mark.parametrize("range_m", [35.0, 31.0, 28.0])
@@ -61,8 +71,8 @@ def test_conservative_triggers_at_a_larger_range_than_none(start_ecu, range_m):
         drive(h, 20.0, range_m=60.0)
         in_standby(h)
         h.periodic("ObjectTrack", obj(range_m, -20.0), 0.05)
-        proximity = 1.0 - (range_m - STANDOFF) / 40.0
-        h.expect("EcuStatus", lambda s: abs(s["Proximity"] - proximity) <= 0.011, timeout_s=0.15)
+        p = proximity(range_m, 20.0, decel)
+        h.expect("EcuStatus", lambda s: abs(s["Proximity"] - p) <= 0.011, timeout_s=0.15)
         frames = h.collect("SafetyOverride", 0.05)
         modes = {f.signals["Mode"] for f in frames}
         assert len(modes) == 1, f"{strategy} at {range_m} m: modes {modes}"
@@ -75,9 +85,9 @@ def test_conservative_triggers_at_a_larger_range_than_none(start_ecu, range_m):
                         28.0: {"none": True, "conservative": True}}[range_m]
 
 
-def _tightened_throttle_pct(range_m: float) -> float:
-    p = min(1.0, max(0.0, 1.0 - (range_m - STANDOFF) / 40.0))
-    a_hi = (1 - p) * A_DRV + p * (-8.1)
+def _tightened_throttle_pct(range_m: float, v: float) -> float:
+    p = proximity(range_m, v, 8.1)
+    a_hi = (1 - p) * A_DRV + p * (-CONTINGENCY_DECEL)
     return 100.0 * min(1.0, max(0.0, a_hi / A_DRV))
 
 
@@ -86,15 +96,16 @@ def test_tightening_throttle_limit_falls_monotonically_as_range_closes(start_ecu
     drive(h, 15.0, range_m=60.0)
     in_standby(h)
     limits = []
-    for range_m in (46.0, 42.0, 40.0, 38.0, 36.0, 34.0, 32.0, 30.0):
-        expected = _tightened_throttle_pct(range_m)
+    # at 15 m/s: boundary at 18.2 m, tightening from 28.2 m, zero throttle below 26.5 m
+    for range_m in (34.0, 30.0, 28.0, 27.5, 27.0, 26.5, 26.0, 24.0, 22.0, 20.0):
+        expected = _tightened_throttle_pct(range_m, 15.0)
         h.periodic("ObjectTrack", obj(range_m, -15.0), 0.05)
         rec = h.expect("SafetyOverride", lambda s: abs(s["ThrottleLimit"] - expected) <= 0.1, timeout_s=0.1)
         assert rec.signals["Mode"] == (0 if expected == 100.0 else 1)
         limits.append(rec.signals["ThrottleLimit"])
     assert limits == sorted(limits, reverse=True)
     assert limits[0] == 100.0 and limits[-1] == 0.0 and any(0.0 < x < 100.0 for x in limits)
-    assert rec.signals["BrakeDecelRequest"] > 0.0  # at 30 m the tightened bound is negative
+    assert rec.signals["BrakeDecelRequest"] > 0.0  # at 20 m the tightened bound is negative
 
 
 def test_frames_with_a_bad_crc_are_ignored(start_ecu):
