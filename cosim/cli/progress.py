@@ -9,12 +9,23 @@ from ..run_record import RunRecord
 
 
 def progress_printer(strategy: str) -> Callable[[float, float], None]:
-    """A progress callback that rewrites one stderr line: ``strategy  t / duration s``."""
+    """A progress callback on stderr: ``strategy  t / duration s``.
+
+    On a terminal one line is rewritten in place; otherwise (a log file, CI) a
+    line is written every 10 s of simulated time and at the end, never a
+    carriage-return soup.
+    """
     stream = sys.stderr
+    interactive = stream.isatty()
+    last = [-10.0]
 
     def show(t_s: float, duration_s: float) -> None:
-        end = "\n" if t_s >= duration_s else ""
-        stream.write(f"\r  {strategy:<13} {t_s:6.1f} / {duration_s:.1f} s sim{end}")
+        done = t_s >= duration_s
+        if interactive:
+            stream.write(f"\r  {strategy:<13} {t_s:6.1f} / {duration_s:.1f} s sim" + ("\n" if done else ""))
+        elif t_s != last[0] and (done or t_s - last[0] >= 10.0):
+            last[0] = t_s
+            stream.write(f"  {strategy:<13} {t_s:6.1f} / {duration_s:.1f} s sim\n")
         stream.flush()
 
     return show
