@@ -12,6 +12,7 @@ import logging
 from pathlib import Path
 from typing import Callable, Sequence
 
+from .ecu_link import EcuOptions
 from .errors import PlantError
 from .master import Progress, ecu_config, run_scenario
 from .plots import speed_profiles, timeline
@@ -58,15 +59,19 @@ def check_run(scenario: Scenario, record: RunRecord) -> list[str]:
 
 def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
                    can_log_name: str = "can.blf",
-                   progress: Callable[[str], Progress] | None = None) -> list[RunRecord]:
-    """Run each strategy; with ``out_dir``, write metrics, logs, time series, config and plots."""
+                   progress: Callable[[str], Progress] | None = None,
+                   ecu: EcuOptions | None = None) -> list[RunRecord]:
+    """Run each strategy; with ``out_dir``, write metrics, logs, time series, config and plots.
+
+    ``ecu`` says where the ECU runs (default: in process); see :mod:`cosim.ecu_link`.
+    """
     fmu_path = resolve_fmu(scenario)
     for strategy in strategies:  # fail fast on a bad [ecu] before any run
         ecu_config(scenario, strategy)
     records = []
     for strategy in strategies:
         show = progress(strategy) if progress else None
-        record = run_scenario(scenario, fmu_path, strategy, show)
+        record = run_scenario(scenario, fmu_path, strategy, show, ecu=ecu)
         if show is not None:
             show(record.metrics.sim_time_s, record.metrics.sim_time_s)  # final line
         records.append(record)

@@ -10,16 +10,31 @@ If no fresh valid ``SafetyOverride`` arrived within ``override_timeout_s``,
 or the receiver's E2E validity score says the message is invalid, it falls
 back to the driver's commands alone and records an event; it records another
 when valid frames return. Time is passed in; nothing reads a clock.
+
+A second ECU on the bus: one ECU sends one ``SafetyOverride`` per 10 ms
+cycle. When more than ``conflict_window_cycles + conflict_slack`` of them
+arrive within the last ``conflict_window_cycles`` cycles (lock-step: window 1,
+slack 0, i.e. two in one cycle; real time: window 10, slack 3, which scheduling
+jitter of one sender does not reach), the gateway records a ``second_ecu``
+event, logs a warning and treats every ``SafetyOverride`` as invalid until
+``CONFLICT_HOLD_S`` (1 s) has passed without an excess (the two senders'
+frames need not fall evenly into cycles, so a bare per-cycle test would
+flicker): the plant gets the driver's commands alone, exactly as after a
+timeout (mode ``SECOND_ECU``). Rationale: two senders of one message cannot be
+told apart on CAN (the E2E counters interleave), so neither is obeyed; the
+driver-only fallback is the same fail-silent state as a lost ECU. When one
+sender remains, the ``override_restored`` event marks the return.
 """
 
 from __future__ import annotations
 
 import logging
+from collections import deque
 from dataclasses import dataclass
 
 import can
 
-from can_dbc import Receiver
+from can_dbc import LAYOUTS, Receiver
 
 from .driver_models import Pedals
 from .scenario_config import GatewayConfig
@@ -28,6 +43,10 @@ log = logging.getLogger(__name__)
 
 MODES = {0: "STANDBY", 1: "TIGHTENING", 2: "CONTINGENCY", 3: "FAULT"}
 TIMEOUT_MODE = "NO_OVERRIDE"  # reported while falling back to the driver alone
+CONFLICT_MODE = "SECOND_ECU"  # reported while two ECUs send SafetyOverride
+_OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
+#: a detected second sender keeps the overrides ignored until this long (s) without an excess.
+CONFLICT_HOLD_S = 1.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -41,15 +60,20 @@ class Actuation:
 @dataclass(frozen=True, slots=True)
 class GatewayEvent:
     t_s: float
-    kind: str  # "override_timeout" | "override_restored"
+    kind: str  # "override_timeout" | "override_restored" | "second_ecu"
     detail: str
 
 
 class Gateway:
     """Applies ``SafetyOverride`` frames to the driver's pedals."""
 
-    def __init__(self, cfg: GatewayConfig) -> None:
+    def __init__(self, cfg: GatewayConfig, conflict_window_cycles: int = 1) -> None:
         self._cfg = cfg
+        self._window: deque[int] = deque(maxlen=conflict_window_cycles)
+        self._conflict_limit = conflict_window_cycles + (0 if conflict_window_cycles == 1 else 3)
+        self._in_cycle = 0
+        self._conflict_until_t_s = -1.0
+        self.conflict = False
         self._rx = Receiver(names=["SafetyOverride"])
         self._last_fresh_t_s = 0.0  # the first timeout window starts at t = 0
         self._signals: dict | None = None
@@ -60,6 +84,8 @@ class Gateway:
 
     def offer(self, msg: can.Message, t_s: float) -> bool:
         """Take one frame from the bus; returns True if it was a fresh valid ``SafetyOverride``."""
+        if msg.arbitration_id == _OVERRIDE_ID and not msg.is_extended_id:
+            self._in_cycle += 1
         frame = self._rx.receive(msg)
         if frame is None:
             return False
@@ -71,10 +97,30 @@ class Gateway:
         self._last_fresh_t_s = t_s
         return True
 
+    def _update_conflict(self, t_s: float) -> None:
+        self._window.append(self._in_cycle)
+        self._in_cycle = 0
+        seen = sum(self._window)
+        if seen > self._conflict_limit:
+            self._conflict_until_t_s = t_s + CONFLICT_HOLD_S
+        conflict = t_s < self._conflict_until_t_s
+        if conflict and not self.conflict:
+            detail = (f"{seen} SafetyOverride frames in {len(self._window)} cycle(s), expected at most "
+                      f"{self._conflict_limit}: a second ECU is on the bus; overrides ignored, driver only")
+            self.events.append(GatewayEvent(t_s, "second_ecu", detail))
+            log.warning("t=%.3f s: %s", t_s, detail)
+        self.conflict = conflict
+        if conflict:
+            self.mode = CONFLICT_MODE
+
     def _update_fallback(self, t_s: float) -> None:
         silent_s = t_s - self._last_fresh_t_s
-        lost = silent_s > self._cfg.override_timeout_s + 1e-9 or not self._rx.is_valid("SafetyOverride")
+        lost = (silent_s > self._cfg.override_timeout_s + 1e-9 or not self._rx.is_valid("SafetyOverride")
+                or self.conflict)
         if lost and not self.fallback:
+            if self.conflict:  # already recorded as second_ecu
+                self.fallback = lost
+                return
             detail = (f"no valid SafetyOverride for {silent_s:.3f} s (timeout {self._cfg.override_timeout_s} s),"
                       f" E2E score {self._rx.score('SafetyOverride')}")
             self.events.append(GatewayEvent(t_s, "override_timeout", detail))
@@ -87,6 +133,7 @@ class Gateway:
 
     def actuation(self, pedals: Pedals, t_s: float) -> Actuation:
         """The plant's throttle and brake (0..1) for the cycle starting at ``t_s``."""
+        self._update_conflict(t_s)
         self._update_fallback(t_s)
         throttle_pct, brake = pedals.accel_pct, pedals.brake_pct / 100.0
         sig = self._signals

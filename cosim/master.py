@@ -6,12 +6,18 @@ boundary, in this order:
 
 1. read the plant outputs; the driver model makes the pedals;
 2. send ``DriverInput`` and ``WheelSpeeds`` (every cycle) and ``ObjectTrack``
-   (every 5th cycle), each with its own E2E counter, on an in-process python-can
-   virtual bus with a channel unique to the run;
-3. ``EcuNode.step(t)`` (the ECU drains those frames and sends ``SafetyOverride``);
-4. the gateway drains the ECU's frames and computes the plant commands, which
-   take effect from the NEXT cycle on (the natural one-cycle latency);
+   (every 5th cycle), each with its own E2E counter, to the ECU through the
+   link chosen by :class:`cosim.ecu_link.EcuOptions`: by default an
+   in-process python-can virtual bus with a channel unique to the run, or a
+   bus shared with a ``crd ecu`` process (then followed by ``SimClock``);
+3. the ECU runs one cycle (``EcuNode.step(t)`` in process, or the ECU
+   process's cycle on that ``SimClock``) and sends ``SafetyOverride``;
+4. the gateway takes the ECU's frames (an ECU process: waiting, bounded, for
+   them) and computes the plant commands, which take effect from the NEXT
+   cycle on (the natural one-cycle latency);
 5. the plant advances N steps with the commands computed one cycle earlier.
+   (Overlapping this with the ECU process's cycle was measured slower on 2
+   cores: the hub thread then contends for the GIL with the FMU stepping.)
 
 Every frame is logged with the simulation time as its time stamp (the virtual
 bus stamps wall time, so the log keeps its own copies). Collision: the front
@@ -25,8 +31,8 @@ from __future__ import annotations
 
 import itertools
 import logging
-import os
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
@@ -34,9 +40,10 @@ import can
 import numpy as np
 
 from can_dbc import CounterSequence, encode
-from ecu import EcuConfig, EcuNode
+from ecu import EcuConfig
 
 from .driver_models import make_driver
+from .ecu_link import EcuOptions, open_link
 from .errors import FmiStepError
 from .gateway import Actuation, Gateway
 from .plant_fmu import FmuPlant, PlantSample
@@ -47,7 +54,6 @@ from .scene_objects import LaneObject
 
 log = logging.getLogger(__name__)
 
-_channels = itertools.count()
 _KMH_PER_MPS = 3.6
 _WHEEL_MAX_KMH = 400.0  # DBC range of WheelSpeedXX
 _ACCEL_BOUND_MPS2 = 50.0  # no plant moves faster than this within a cycle: bounds the collision look-ahead
@@ -63,11 +69,21 @@ def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
     return EcuConfig.from_dict(params, where="ecu")
 
 
+@dataclass(frozen=True, slots=True)
+class _Outgoing:
+    """What the first half of a cycle leaves for the second."""
+
+    sample: PlantSample
+    pedals: object
+    gap_m: float
+    frames: list
+
+
 class ClosedLoop:
     """One run of one strategy. Build, then :meth:`run`; the FMU and buses are closed after."""
 
     def __init__(self, scenario: Scenario, fmu_path: Path, strategy: str | None = None,
-                 profile: bool = False) -> None:
+                 profile: bool = False, ecu: EcuOptions | None = None) -> None:
         self.sc = scenario
         self.strategy = strategy or scenario.ecu.strategy
         self._ecu_cfg = ecu_config(scenario, self.strategy)
@@ -77,16 +93,19 @@ class ClosedLoop:
         self.obj = LaneObject.from_config(scenario.object)
         self.driver = make_driver(scenario.driver)
         self.radar = RadarModel(scenario.radar, np.random.default_rng(scenario.scenario.seed))
-        self.gateway = Gateway(scenario.gateway)
+        self.ecu = ecu if ecu is not None else EcuOptions()
+        self.gateway = Gateway(scenario.gateway, conflict_window_cycles=10 if self.ecu.realtime else 1)
         self.record = RunRecord(self.strategy, RunMetrics(self.strategy))
         self._seq = {name: CounterSequence() for name in ("DriverInput", "WheelSpeeds", "ObjectTrack")}
         self._cost = dict.fromkeys(PHASES, 0) if profile else None
         self.plant = FmuPlant(scenario.plant, fmu_path)
         self.record.fmu_path, self.record.fmu_sha256 = str(fmu_path), self.plant.sha256
-        channel = f"crd-{os.getpid()}-{next(_channels)}"
-        self._bus = can.Bus(interface="virtual", channel=channel, receive_own_messages=False)
-        self._ecu_bus = can.Bus(interface="virtual", channel=channel, receive_own_messages=False)
-        self.node = EcuNode(self._ecu_bus, self._ecu_cfg)
+        try:
+            self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S)
+        except BaseException:
+            self.plant.close()
+            raise
+        self.node = getattr(self.link, "node", None)  # the in-process EcuNode, if any
 
     # -- one cycle ------------------------------------------------------------
     def _frames_out(self, t_s: float, cycle: int, sample: PlantSample, pedals, gap_m) -> list:
@@ -101,8 +120,11 @@ class ClosedLoop:
             out.append(encode("ObjectTrack", self.radar.measure().signals(), self._seq["ObjectTrack"].next()))
         return out
 
-    def _cycle(self, t_s: float, cycle: int, applied: Actuation) -> tuple[Actuation, float]:
+    def _cycle_out(self, t_s: float, cycle: int) -> _Outgoing:
+        """First half of a cycle: read the plant, run the models, send this cycle's frames to the ECU."""
         clock, cost = time.perf_counter_ns, self._cost
+        if self.link.realtime:
+            self.link.pace(cycle)
         c0 = clock() if cost is not None else 0
         sample = self.plant.read()
         c1 = clock() if cost is not None else 0
@@ -116,33 +138,33 @@ class ClosedLoop:
         c2 = clock() if cost is not None else 0
         frames = self._frames_out(t_s, cycle, sample, pedals, gap_m)
         c3 = clock() if cost is not None else 0
-        for msg in frames:
-            self._bus.send(msg)
-        c4 = clock() if cost is not None else 0
-        self.node.step(t_s)
-        c5 = clock() if cost is not None else 0
-        received = []
-        while (msg := self._bus.recv(timeout=0.0)) is not None:
-            received.append(msg)
+        frames.extend(self.link.send(t_s, cycle, frames, cost))
+        if cost is not None:
+            cost["fmu"] += c1 - c0
+            cost["models"] += c2 - c1
+            cost["codec"] += c3 - c2
+        return _Outgoing(sample, pedals, gap_m, frames)
+
+    def _cycle_in(self, t_s: float, cycle: int, out: _Outgoing, applied: Actuation) -> Actuation:
+        """Second half: take the ECU's frames, compute next cycle's commands, log the cycle."""
+        clock, cost = time.perf_counter_ns, self._cost
+        received = self.link.collect(t_s, cycle, cost)
         c6 = clock() if cost is not None else 0
         for msg in received:
             self.gateway.offer(msg, t_s)
-        nxt = self.gateway.actuation(pedals, t_s)
+        nxt = self.gateway.actuation(out.pedals, t_s)
         c7 = clock() if cost is not None else 0
         log_frames = self.record.frames
-        for msg in itertools.chain(frames, received):
+        for msg in itertools.chain(out.frames, received):
             log_frames.append(LoggedFrame(t_s, msg.arbitration_id, bytes(msg.data)))
+        sample, pedals = out.sample, out.pedals
         self.record.rows.append((t_s, sample.position_m, sample.speed_mps, sample.accel_mps2, applied.throttle,
-                                 applied.brake, self.gateway.mode, gap_m, pedals.accel_pct, pedals.brake_pct))
+                                 applied.brake, self.gateway.mode, out.gap_m, pedals.accel_pct, pedals.brake_pct))
         if cost is not None:
             c8 = clock()
-            cost["fmu"] += c1 - c0
-            cost["models"] += c2 - c1
-            cost["codec"] += (c3 - c2) + (c7 - c6)
-            cost["bus"] += (c4 - c3) + (c6 - c5)
-            cost["ecu"] += c5 - c4
+            cost["codec"] += c7 - c6
             cost["logging"] += c8 - c7
-        return nxt, gap_m
+        return nxt
 
     def _advance(self, k: int, applied: Actuation, gap_m: float, speed_mps: float) -> tuple[int, bool]:
         """Advance the plant one ECU cycle; returns the new ``k`` and whether it collided."""
@@ -183,11 +205,13 @@ class ClosedLoop:
         total_k = int(round(duration_s / self.h_s))
         k, cycle, applied = 0, 0, Actuation(0.0, 0.0)
         try:
+            self.link.start()
             while k < total_k:
                 t_s = k * self.h_s
-                nxt, gap_m = self._cycle(t_s, cycle, applied)
-                self._track(gap_m)
-                k, collided = self._advance(k, applied, gap_m, self.record.rows[-1][2])
+                out = self._cycle_out(t_s, cycle)
+                nxt = self._cycle_in(t_s, cycle, out, applied)
+                self._track(out.gap_m)
+                k, collided = self._advance(k, applied, out.gap_m, out.sample.speed_mps)
                 applied, cycle = nxt, cycle + 1
                 if progress is not None and cycle % 100 == 0:
                     progress(k * self.h_s, duration_s)
@@ -227,18 +251,23 @@ class ClosedLoop:
         if m.min_gap_m is not None and not np.isfinite(m.min_gap_m):
             m.min_gap_m = None
         self.record.events[:0] = [RunEvent(e.t_s, e.kind, e.detail) for e in self.gateway.events]
+        self.record.events[:0] = self.link.events
+        self.record.timing = dict(self.link.timing)
+        self.record.ecu_report = getattr(self.link, "ecu_report", "")
         self.record.events.sort(key=lambda e: e.t_s)
         if self._cost is not None and cycles:
             self.record.cycle_cost_s = {k: v / cycles / 1e9 for k, v in self._cost.items()}
 
     def close(self) -> None:
-        """Free the FMU and shut both bus ends down; safe to call twice."""
-        self.plant.close()
-        self._ecu_bus.shutdown()
-        self._bus.shutdown()
+        """Free the FMU, stop an ECU process the run spawned and leave the bus; safe to call twice."""
+        try:
+            self.plant.close()
+        finally:
+            self.link.close()
 
 
 def run_scenario(scenario: Scenario, fmu_path: Path, strategy: str | None = None,
-                 progress: Progress | None = None, profile: bool = False) -> RunRecord:
-    """Build and run one closed loop; see :class:`ClosedLoop`."""
-    return ClosedLoop(scenario, fmu_path, strategy, profile).run(progress)
+                 progress: Progress | None = None, profile: bool = False,
+                 ecu: EcuOptions | None = None) -> RunRecord:
+    """Build and run one closed loop; see :class:`ClosedLoop` (``ecu``: where the ECU runs)."""
+    return ClosedLoop(scenario, fmu_path, strategy, profile, ecu).run(progress)

@@ -55,6 +55,8 @@ class RunRecord:
     fmu_path: str = ""
     fmu_sha256: str = ""
     cycle_cost_s: dict[str, float] = field(default_factory=dict)  # filled when profiling
+    timing: dict[str, float] = field(default_factory=dict)  # real time: the master's lag/jitter (s)
+    ecu_report: str = ""  # what a spawned crd ecu printed (its run summary)
 
     def column(self, name: str) -> list:
         i = TIMESERIES_COLUMNS.index(name)

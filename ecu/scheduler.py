@@ -17,18 +17,29 @@ hour at 100 Hz); maxima are over the whole run.
 
 Sim time: one cycle per valid ``SimClock`` frame, after the frames received
 before it, at ``t_s = SimTimeMs / 1000`` (see ``EcuNode.on_sim_message``).
+
+Bus errors on receive: a one-off ``can.CanError`` (another participant died,
+an overrun) is logged and the loop goes on; the same receive failing twice in
+a row means the bus itself is gone (e.g. the hub's process died), and the
+error propagates, ending the run (a stranded ECU process exits rather than
+spinning).
 """
 
 from __future__ import annotations
 
+import logging
 import threading
 import time
 from collections import deque
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Iterable
 
+import can
+
 if TYPE_CHECKING:
     from .node import EcuNode
+
+log = logging.getLogger(__name__)
 
 WINDOW = 360_000
 RECV_POLL_S = 0.05
@@ -83,6 +94,26 @@ class _Samples:
         return Percentiles.of(self.values, self.maximum)
 
 
+class _Receiver:
+    """``bus.recv`` that tolerates one isolated ``can.CanError`` and raises on two in a row."""
+
+    def __init__(self, bus: can.BusABC) -> None:
+        self.bus = bus
+        self.failed = False
+
+    def recv(self, timeout: float) -> can.Message | None:
+        try:
+            msg = self.bus.recv(timeout=timeout)
+        except can.CanError as exc:
+            if self.failed:
+                raise
+            self.failed = True
+            log.warning("bus error (continuing): %s", exc)
+            return None
+        self.failed = False
+        return msg
+
+
 def run_real_time(node: "EcuNode", stop_event: threading.Event, cycle_s: float) -> RunReport:
     """Cycle on absolute wall-clock deadlines until ``stop_event`` is set."""
     clock = time.perf_counter
@@ -90,10 +121,11 @@ def run_real_time(node: "EcuNode", stop_event: threading.Event, cycle_s: float) 
     cycles = missed = 0
     k = 0
     previous_start = None
+    receiver = _Receiver(node.bus)
     t0 = clock()
     while not stop_event.is_set():
         deadline = t0 + k * cycle_s
-        _receive_until(node, deadline, k * cycle_s, clock)
+        _receive_until(node, receiver, deadline, k * cycle_s, clock)
         start = clock()
         late = start - deadline
         if late >= cycle_s:
@@ -114,15 +146,14 @@ def run_real_time(node: "EcuNode", stop_event: threading.Event, cycle_s: float) 
                      duration.percentiles())
 
 
-def _receive_until(node: "EcuNode", deadline: float, t_s: float, clock) -> None:
+def _receive_until(node: "EcuNode", receiver: _Receiver, deadline: float, t_s: float, clock) -> None:
     """Wait for the deadline while taking frames in as they arrive (they belong to cycle ``t_s``).
 
     Spreading the decoding over the idle time keeps a flood of frames from piling up
     into one long drain at the start of the cycle.
     """
-    bus = node.bus
     while (remaining := deadline - clock()) > 0.0:
-        msg = bus.recv(timeout=remaining)
+        msg = receiver.recv(remaining)
         if msg is not None:
             node.ingest(msg, t_s)
 
@@ -132,9 +163,9 @@ def run_sim_time(node: "EcuNode", stop_event: threading.Event) -> RunReport:
     clock = time.perf_counter
     duration = _Samples()
     cycles = 0
-    bus = node.bus
+    receiver = _Receiver(node.bus)
     while not stop_event.is_set():
-        msg = bus.recv(timeout=RECV_POLL_S)
+        msg = receiver.recv(RECV_POLL_S)
         if msg is None:
             continue
         start = clock()

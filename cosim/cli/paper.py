@@ -15,6 +15,7 @@ from pathlib import Path
 from ..experiment import run_strategies
 from ..paper_claims import REQUIRED, evaluate
 from ..scenario_loader import load_scenario
+from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
 from .progress import end_progress, progress_printer, results_table
 
 PAPER_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper_cyclist.toml"
@@ -25,15 +26,19 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p = subparsers.add_parser("paper", help="reproduce the paper's three speed profiles and check its claims")
     p.add_argument("--scenario", type=Path, default=PAPER_SCENARIO, help="scenario (default: paper_cyclist.toml)")
     p.add_argument("--out", type=Path, default=Path("out/paper"), help="output directory (default out/paper)")
+    add_ecu_arguments(p, realtime=False)
     p.set_defaults(func=_do_paper)
 
 
 def _do_paper(args: argparse.Namespace) -> int:
     scenario = load_scenario(args.scenario)
     print(f"crd paper: {args.scenario.name}, strategies {', '.join(REQUIRED)} -> {args.out}", file=sys.stderr)
-    records = run_strategies(scenario, list(REQUIRED), args.out, progress=progress_printer)
+    records = run_strategies(scenario, list(REQUIRED), args.out, progress=progress_printer,
+                              ecu=ecu_options(args))
     end_progress()
     print(results_table(records))
+    for line in timing_lines(records):
+        print(line)
     errors = [f"{r.strategy}: {r.error}" for r in records if r.error]
     if errors:
         raise RuntimeError("; ".join(errors))

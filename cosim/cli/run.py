@@ -14,6 +14,7 @@ from pathlib import Path
 from ..experiment import check_run, run_strategies
 from ..scenario_config import STRATEGIES
 from ..scenario_loader import load_scenario
+from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
 from .progress import end_progress, progress_printer, results_table
 
 EXIT_CHECK_FAILED = 3
@@ -26,6 +27,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, default=Path("out/run"), help="output directory (default out/run)")
     p.add_argument("--can-log", default="can.blf",
                    help="CAN log file name; the suffix picks the format (.blf, .asc, .log, .csv...)")
+    add_ecu_arguments(p, realtime=True)
     p.set_defaults(func=_do_run)
 
 
@@ -33,9 +35,12 @@ def _do_run(args: argparse.Namespace) -> int:
     scenario = load_scenario(args.scenario)
     strategy = args.strategy or scenario.ecu.strategy
     print(f"crd run {args.scenario} (strategy {strategy}) -> {args.out}", file=sys.stderr)
-    records = run_strategies(scenario, [strategy], args.out, args.can_log, progress=progress_printer)
+    records = run_strategies(scenario, [strategy], args.out, args.can_log, progress=progress_printer,
+                              ecu=ecu_options(args))
     end_progress()
     print(results_table(records))
+    for line in timing_lines(records):
+        print(line)
     record = records[0]
     if record.error:
         raise RuntimeError(f"{record.error} (results up to then written to {args.out})")

@@ -1,7 +1,8 @@
-"""Fixtures: every HIL test runs once per backend (``lockstep``, ``realtime``).
+"""Fixtures: every HIL test runs once per backend (``lockstep``, ``realtime``, ``process``).
 
-A new backend (e.g. ``process``) is one more entry in ``harness.BACKENDS``
-and in ``MODES``; the tests do not change.
+A new backend is one more entry in ``harness.BACKENDS`` and in ``MODES``;
+the tests do not change. ``process`` runs ``crd ecu`` as a separate OS
+process over the ``crd_unix`` transport.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from ecu import EcuConfig
 
 from . import harness
 
-MODES = ("lockstep", "realtime")
+MODES = ("lockstep", "realtime", "process")
 
 
 @pytest.fixture(params=MODES)

@@ -11,15 +11,21 @@ time passes is a *backend*, chosen by name from :data:`BACKENDS`:
   a harness thread sends periodic frames on the wall clock; deadlines are
   wall-clock and get ``slack_s`` for the OS scheduler.
 
-A ``process`` backend (the ECU as a separate OS process on a cross-process
-bus) fits the same shape: a :class:`RealTimeBackend` with another launcher.
+* ``process`` — the ECU is ``crd ecu`` (real time), a separate OS process on
+  the ``crd_unix`` cross-process bus; the harness bus opens first and hosts the
+  hub; otherwise as ``realtime`` (a :class:`RealTimeBackend` with another
+  launcher). The process is stopped by PID when the test ends.
+
 Tests never see the backend, only :class:`Harness`.
 """
 
 from __future__ import annotations
 
+import shutil
+import tempfile
 import threading
 import time
+from pathlib import Path
 from dataclasses import dataclass
 from typing import Callable, Mapping
 
@@ -241,17 +247,55 @@ class RealTimeBackend:
         self._launched.stop()
 
 
+class ProcessBackend(RealTimeBackend):
+    """``crd ecu`` as its own OS process on ``crd_unix``; the harness's bus hosts the hub."""
+
+    join_timeout_s = 10.0
+
+    def __init__(self, config: EcuConfig, channel: str) -> None:
+        from cosim.ecu_process import EcuProcess  # the harness launches; the ECU imports nothing of cosim
+
+        self._dir = Path(tempfile.mkdtemp(prefix="crd-hil-"))
+        socket_path = str(self._dir / "can.sock")
+        self.bus = can.Bus(interface="crd_unix", channel=socket_path)
+        try:
+            super().__init__(config, socket_path,
+                             launcher=lambda cfg, ch: EcuProcess("crd_unix", ch, cfg, False, self._dir))
+            deadline = time.monotonic() + self.join_timeout_s
+            while self.bus.peer_count < 1:
+                if time.monotonic() > deadline or not self._launched.alive():
+                    raise RuntimeError(f"expected crd ecu (pid {self._launched.pid}) on {socket_path} within "
+                                       f"{self.join_timeout_s} s: {self._launched.output()}")
+                time.sleep(0.01)
+            while self.bus.recv(timeout=0.0) is not None:  # frames from before the harness starts
+                pass
+            self._t0 = time.perf_counter()
+        except BaseException:
+            self.stop()
+            raise
+
+    def stop(self) -> None:
+        try:
+            if hasattr(self, "_launched"):
+                super().stop()
+        finally:
+            self.bus.shutdown()
+            shutil.rmtree(self._dir, ignore_errors=True)
+
+
 Backend = LockStepBackend | RealTimeBackend
 BACKENDS: dict[str, Callable[[EcuConfig, str], Backend]] = {
     "lockstep": LockStepBackend,
     "realtime": RealTimeBackend,
+    "process": ProcessBackend,
 }
 
 
 def start(mode: str, config: EcuConfig, channel: str) -> Harness:
     """A harness around a fresh ECU on ``channel`` run by the ``mode`` backend."""
     backend = BACKENDS[mode](config, channel)
-    harness = Harness(can.Bus(interface="virtual", channel=channel), backend)
+    bus = getattr(backend, "bus", None) or can.Bus(interface="virtual", channel=channel)
+    harness = Harness(bus, backend)
     if hasattr(backend, "attach"):
         backend.attach(harness)
     return harness

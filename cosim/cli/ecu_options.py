@@ -1,0 +1,49 @@
+"""``--ecu inprocess|process|attach`` and friends, shared by ``crd run`` and ``crd paper``."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..ecu_link import ECU_MODES, EcuOptions
+from ..run_record import RunRecord
+
+
+def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
+    g = parser.add_argument_group("ECU placement (see cosim/ecu_link.py)")
+    g.add_argument("--ecu", choices=ECU_MODES, default="inprocess",
+                   help="inprocess (default); process: spawn `crd ecu` on the bus and stop it at the end; "
+                        "attach: use an ECU already running on --bus-channel")
+    g.add_argument("--bus-interface", default="crd_unix",
+                   help="python-can interface shared with the ECU process (default crd_unix)")
+    g.add_argument("--bus-channel", help="its channel (crd_unix: a socket path; process: a fresh one by default)")
+    g.add_argument("--join-timeout", type=float, default=10.0, metavar="S",
+                   help="wall-clock bound on waiting for the ECU to join (default 10 s)")
+    g.add_argument("--reply-timeout", type=float, default=1.0, metavar="S",
+                   help="wall-clock bound on waiting for a cycle's SafetyOverride (default 1 s)")
+    if realtime:
+        g.add_argument("--realtime", action="store_true",
+                       help="pace the co-simulation to the wall clock; the ECU runs on its own clock")
+
+
+def ecu_options(args: argparse.Namespace) -> EcuOptions:
+    return EcuOptions(mode=args.ecu, interface=args.bus_interface, channel=args.bus_channel,
+                      realtime=getattr(args, "realtime", False), join_timeout_s=args.join_timeout,
+                      reply_timeout_s=args.reply_timeout)
+
+
+def timing_lines(records: list[RunRecord]) -> list[str]:
+    """Real-time lag/jitter and ECU-link events, one line each."""
+    lines = []
+    for r in records:
+        t = r.timing
+        if t:
+            lines.append(f"{r.strategy}: real-time master cycle lag p50 {t['lag_p50_s'] * 1e3:.3f} "
+                         f"p99 {t['lag_p99_s'] * 1e3:.3f} max {t['lag_max_s'] * 1e3:.3f} ms; jitter p50 "
+                         f"{t['jitter_p50_s'] * 1e3:.3f} p99 {t['jitter_p99_s'] * 1e3:.3f} "
+                         f"max {t['jitter_max_s'] * 1e3:.3f} ms")
+        for e in r.events:
+            if e.kind in ("ecu_lost", "second_ecu"):
+                lines.append(f"{r.strategy}: t={e.t_s:.3f} s {e.kind}: {e.detail}")
+        if r.ecu_report:
+            lines.append(f"{r.strategy}: {r.ecu_report.splitlines()[-1]}")
+    return lines
