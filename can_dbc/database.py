@@ -113,6 +113,14 @@ LAYOUTS_BY_ID: Mapping[int, MessageLayout] = MappingProxyType(
 )
 
 
+def signal_layout(message_name: str, signal_name: str) -> SignalLayout:
+    """The layout (bit position, scaling, DBC min/max, unit) of one signal."""
+    for sig in LAYOUTS[message_name].signals:
+        if sig.name == signal_name:
+            return sig
+    raise KeyError(f"{message_name} has no signal {signal_name!r}")
+
+
 def cycle_time_s(message_name: str) -> float:
     """The message's ``GenMsgCycleTime`` in seconds."""
     cycle = LAYOUTS[message_name].cycle_time_ms

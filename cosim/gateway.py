@@ -35,13 +35,14 @@ from dataclasses import dataclass
 import can
 
 from can_dbc import LAYOUTS, Receiver
+from ecu.core import Mode
 
 from .driver_models import Pedals
+from .run_record import RunEvent
 from .scenario_config import GatewayConfig
 
 log = logging.getLogger(__name__)
 
-MODES = {0: "STANDBY", 1: "TIGHTENING", 2: "CONTINGENCY", 3: "FAULT"}
 TIMEOUT_MODE = "NO_OVERRIDE"  # reported while falling back to the driver alone
 CONFLICT_MODE = "SECOND_ECU"  # reported while two ECUs send SafetyOverride
 _OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
@@ -55,13 +56,6 @@ class Actuation:
 
     throttle: float
     brake: float
-
-
-@dataclass(frozen=True, slots=True)
-class GatewayEvent:
-    t_s: float
-    kind: str  # "override_timeout" | "override_restored" | "second_ecu"
-    detail: str
 
 
 class Gateway:
@@ -80,7 +74,7 @@ class Gateway:
         self.fallback = False
         self.mode = "STANDBY"
         self.contingency_invocations = 0
-        self.events: list[GatewayEvent] = []
+        self.events: list[RunEvent] = []  # kinds: override_timeout, override_restored, second_ecu
 
     def offer(self, msg: can.Message, t_s: float) -> bool:
         """Take one frame from the bus; returns True if it was a fresh valid ``SafetyOverride``."""
@@ -89,7 +83,7 @@ class Gateway:
         frame = self._rx.receive(msg)
         if frame is None:
             return False
-        mode = MODES[int(frame.signals["Mode"])]
+        mode = Mode(int(frame.signals["Mode"])).name
         if mode == "CONTINGENCY" and self.mode != "CONTINGENCY":
             self.contingency_invocations += 1
         self.mode = mode
@@ -107,7 +101,7 @@ class Gateway:
         if conflict and not self.conflict:
             detail = (f"{seen} SafetyOverride frames in {len(self._window)} cycle(s), expected at most "
                       f"{self._conflict_limit}: a second ECU is on the bus; overrides ignored, driver only")
-            self.events.append(GatewayEvent(t_s, "second_ecu", detail))
+            self.events.append(RunEvent(t_s, "second_ecu", detail))
             log.warning("t=%.3f s: %s", t_s, detail)
         self.conflict = conflict
         if conflict:
@@ -123,11 +117,11 @@ class Gateway:
                 return
             detail = (f"no valid SafetyOverride for {silent_s:.3f} s (timeout {self._cfg.override_timeout_s} s),"
                       f" E2E score {self._rx.score('SafetyOverride')}")
-            self.events.append(GatewayEvent(t_s, "override_timeout", detail))
+            self.events.append(RunEvent(t_s, "override_timeout", detail))
             log.warning("t=%.3f s: %s; driver commands only", t_s, detail)
             self.mode = TIMEOUT_MODE
         elif not lost and self.fallback:
-            self.events.append(GatewayEvent(t_s, "override_restored", "valid SafetyOverride again"))
+            self.events.append(RunEvent(t_s, "override_restored", "valid SafetyOverride again"))
             log.info("t=%.3f s: SafetyOverride restored", t_s)
         self.fallback = lost
 

@@ -39,8 +39,9 @@ from typing import Callable
 import can
 import numpy as np
 
-from can_dbc import CounterSequence, encode
+from can_dbc import CounterSequence, encode, signal_layout
 from ecu import EcuConfig
+from ecu.bus_port import KMH_PER_MPS
 
 from .driver_models import make_driver
 from .ecu_link import EcuOptions, open_link
@@ -54,8 +55,7 @@ from .scene_objects import LaneObject
 
 log = logging.getLogger(__name__)
 
-_KMH_PER_MPS = 3.6
-_WHEEL_MAX_KMH = 400.0  # DBC range of WheelSpeedXX
+_WHEEL_MAX_KMH = signal_layout("WheelSpeeds", "WheelSpeedFL").maximum
 _ACCEL_BOUND_MPS2 = 50.0  # no plant moves faster than this within a cycle: bounds the collision look-ahead
 PHASES = ("fmu", "codec", "bus", "ecu", "logging", "models")
 
@@ -109,7 +109,7 @@ class ClosedLoop:
 
     # -- one cycle ------------------------------------------------------------
     def _frames_out(self, t_s: float, cycle: int, sample: PlantSample, pedals, gap_m) -> list:
-        wheels = [min(_WHEEL_MAX_KMH, max(0.0, w * _KMH_PER_MPS)) for w in sample.wheel_speeds_mps]
+        wheels = [min(_WHEEL_MAX_KMH, max(0.0, w * KMH_PER_MPS)) for w in sample.wheel_speeds_mps]
         out = [
             encode("DriverInput", {"AccelPedal": pedals.accel_pct, "BrakePedal": pedals.brake_pct,
                                    "SteeringWheelAngle": 0.0}, self._seq["DriverInput"].next()),
@@ -250,7 +250,7 @@ class ClosedLoop:
         m.contingency_invocations = self.gateway.contingency_invocations
         if m.min_gap_m is not None and not np.isfinite(m.min_gap_m):
             m.min_gap_m = None
-        self.record.events[:0] = [RunEvent(e.t_s, e.kind, e.detail) for e in self.gateway.events]
+        self.record.events[:0] = self.gateway.events
         self.record.events[:0] = self.link.events
         self.record.timing = dict(self.link.timing)
         self.record.ecu_report = getattr(self.link, "ecu_report", "")

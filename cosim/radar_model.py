@@ -20,10 +20,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from can_dbc import signal_layout
+
 from .scenario_config import ECU_CYCLE_S, RadarConfig
 
-DBC_RANGE_MAX_M = 250.0
-DBC_RATE_MAX_MPS = 100.0
+DBC_RANGE_MAX_M = signal_layout("ObjectTrack", "ObjectRange").maximum
+DBC_RATE_MAX_MPS = signal_layout("ObjectTrack", "ObjectRangeRate").maximum
 
 
 @dataclass(frozen=True, slots=True)
