@@ -21,7 +21,10 @@ event, logs a warning and treats every ``SafetyOverride`` as invalid until
 frames need not fall evenly into cycles, so a bare per-cycle test would
 flicker): the plant gets the driver's commands alone, exactly as after a
 timeout (mode ``SECOND_ECU``). Rationale: two senders of one message cannot be
-told apart on CAN (the E2E counters interleave), so neither is obeyed; the
+told apart on CAN (the E2E counters interleave), so neither is obeyed. In
+lock-step that interleaving is itself proof: one ECU sends exactly one frame
+per cycle with the next counter, so a repeated or jumping counter also marks
+a second sender, however the two senders' frames fall into cycles; the
 driver-only fallback is the same fail-silent state as a lost ECU. When one
 sender remains, the ``override_restored`` event marks the return.
 """
@@ -34,7 +37,7 @@ from dataclasses import dataclass
 
 import can
 
-from can_dbc import LAYOUTS, Receiver
+from can_dbc import LAYOUTS, CounterError, FrameError, Receiver
 from ecu.core import Mode
 
 from .driver_models import Pedals
@@ -66,6 +69,10 @@ class Gateway:
         self._window: deque[int] = deque(maxlen=conflict_window_cycles)
         self._conflict_limit = conflict_window_cycles + (0 if conflict_window_cycles == 1 else 3)
         self._in_cycle = 0
+        # lock-step: one ECU sends exactly one SafetyOverride per cycle with the next counter,
+        # so a repeated or jumping counter can only come from a second sender
+        self._counters_prove_conflict = conflict_window_cycles == 1
+        self._counter_anomaly = False
         self._conflict_until_t_s = -1.0
         self.conflict = False
         self._rx = Receiver(names=["SafetyOverride"])
@@ -78,10 +85,16 @@ class Gateway:
 
     def offer(self, msg: can.Message, t_s: float) -> bool:
         """Take one frame from the bus; returns True if it was a fresh valid ``SafetyOverride``."""
-        if msg.arbitration_id == _OVERRIDE_ID and not msg.is_extended_id:
+        override = msg.arbitration_id == _OVERRIDE_ID and not msg.is_extended_id
+        if override:
             self._in_cycle += 1
-        frame = self._rx.receive(msg)
-        if frame is None:
+        try:
+            frame = self._rx.check(msg)
+        except FrameError as exc:
+            self._counter_anomaly |= override and isinstance(exc, CounterError)
+            return False
+        if not frame.fresh:  # repeated counter: no new data
+            self._counter_anomaly = True
             return False
         mode = Mode(int(frame.signals["Mode"])).name
         if mode == "CONTINGENCY" and self.mode != "CONTINGENCY":
@@ -95,12 +108,15 @@ class Gateway:
         self._window.append(self._in_cycle)
         self._in_cycle = 0
         seen = sum(self._window)
-        if seen > self._conflict_limit:
+        counters = self._counters_prove_conflict and self._counter_anomaly
+        self._counter_anomaly = False
+        if seen > self._conflict_limit or counters:
             self._conflict_until_t_s = t_s + CONFLICT_HOLD_S
         conflict = t_s < self._conflict_until_t_s
         if conflict and not self.conflict:
-            detail = (f"{seen} SafetyOverride frames in {len(self._window)} cycle(s), expected at most "
-                      f"{self._conflict_limit}: a second ECU is on the bus; overrides ignored, driver only")
+            why = "a repeated or jumping E2E counter" if counters and seen <= self._conflict_limit else \
+                f"{seen} frames in {len(self._window)} cycle(s), expected at most {self._conflict_limit}"
+            detail = f"SafetyOverride with {why}: a second ECU is on the bus; overrides ignored, driver only"
             self.events.append(RunEvent(t_s, "second_ecu", detail))
             log.warning("t=%.3f s: %s", t_s, detail)
         self.conflict = conflict
