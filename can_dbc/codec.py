@@ -9,13 +9,14 @@ Raw value = round((physical - offset) / scale), as in the DBC definition.
 
 from __future__ import annotations
 
+import copy
 import math
 from typing import Mapping
 
 import can
 
 from .counter import COUNTER_MODULUS
-from .crc import e2e_p01_crc
+from .crc import e2e_p01_crc8
 from .database import LAYOUTS, FRAME_LENGTH, MessageLayout
 from .errors import SignalError
 
@@ -53,16 +54,50 @@ def encode_payload(message_name: str, signals: Mapping[str, float], counter: int
             raise SignalError(f"{message_name}: unknown signals {sorted(extra)}")
     if not (isinstance(counter, int) and 0 <= counter < COUNTER_MODULUS):
         raise SignalError(f"{message_name}: expected counter in 0..14, got {counter!r}")
-    payload = _pack(layout, signals) | (counter << 8)
+    payload = counter << 8
+    try:
+        for name, start, mask, scale, offset, raw_min, raw_max in layout.pack_table:
+            raw = round((signals[name] - offset) / scale)  # inf, NaN or a missing name raise
+            if raw < raw_min or raw > raw_max:
+                raise ValueError
+            payload |= (raw & mask) << start
+    except (KeyError, ValueError, OverflowError, TypeError):
+        _pack(layout, signals)  # raises the SignalError that names the signal
+        raise
     data = bytearray(payload.to_bytes(FRAME_LENGTH, "little"))
-    data[0] = e2e_p01_crc(layout.frame_id, data)
+    data[0] = e2e_p01_crc8(layout.crc_seed, data)
     return data
+
+
+class ContractMessage(can.Message):
+    """A ``can.Message`` whose deep copy copies its fields directly.
+
+    python-can's virtual bus deep-copies every frame for every receiver; the
+    generic ``copy.deepcopy`` of ``Message.data`` (a bytearray) goes through
+    ``__reduce_ex__`` and costs several times the frame's own construction.
+    The copy made here is the same: a new plain ``can.Message`` with its own
+    ``bytearray`` (``channel`` is shared only when it is an immutable
+    ``str``/``int``/``None``, as python-can's channels are).
+    """
+
+    __slots__ = ()
+
+    def __deepcopy__(self, memo: dict | None) -> can.Message:
+        channel = self.channel
+        if not (channel is None or channel.__class__ in (str, int)):
+            channel = copy.deepcopy(channel, memo)
+        return can.Message(
+            timestamp=self.timestamp, arbitration_id=self.arbitration_id, is_extended_id=self.is_extended_id,
+            is_remote_frame=self.is_remote_frame, is_error_frame=self.is_error_frame, channel=channel,
+            dlc=self.dlc, data=bytearray(self.data), is_fd=self.is_fd, is_rx=self.is_rx,
+            bitrate_switch=self.bitrate_switch, error_state_indicator=self.error_state_indicator,
+        )
 
 
 def encode(message_name: str, signals: Mapping[str, float], counter: int) -> can.Message:
     """A ``can.Message`` for ``message_name`` with counter and CRC filled in."""
     data = encode_payload(message_name, signals, counter)
-    return can.Message(
+    return ContractMessage(
         arbitration_id=LAYOUTS[message_name].frame_id,
         is_extended_id=False,
         dlc=FRAME_LENGTH,

@@ -18,6 +18,8 @@ from typing import Mapping
 
 import cantools
 
+from .crc import data_id_seed
+
 DBC_PATH: Path = Path(__file__).with_name("active_safety.dbc")
 DATABASE = cantools.database.load_file(str(DBC_PATH), strict=True)
 
@@ -60,6 +62,12 @@ class MessageLayout:
     cycle_time_ms: int | None
     senders: tuple[str, ...]
     signals: tuple[SignalLayout, ...]
+    #: per signal ``(name, start, mask, scale, offset, raw_min, raw_max)``: the encoder's loop
+    pack_table: tuple[tuple, ...] = ()
+    #: per signal ``(name, start, mask, sign_bit, raw_min, raw_max, scale, offset, is_integer, choices)``
+    unpack_table: tuple[tuple, ...] = ()
+    #: E2E CRC state after the data ID (= frame ID) bytes
+    crc_seed: int = 0
 
 
 def _signal_layout(signal) -> SignalLayout:
@@ -95,13 +103,20 @@ def _message_layout(message) -> MessageLayout:
     names = [s.name for s in message.signals]
     if names[:2] != list(E2E_SIGNALS):
         raise ValueError(f"message {message.name}: expected CHECKSUM, COUNTER first, got {names[:2]}")
+    signals = tuple(_signal_layout(s) for s in message.signals[2:])
+    masks = [(1 << sig.length) - 1 for sig in signals]
     return MessageLayout(
         name=message.name,
         frame_id=message.frame_id,
         length=message.length,
         cycle_time_ms=message.cycle_time,
         senders=tuple(message.senders),
-        signals=tuple(_signal_layout(s) for s in message.signals[2:]),
+        signals=signals,
+        pack_table=tuple((s.name, s.start, m, s.scale, s.offset, s.raw_min, s.raw_max)
+                         for s, m in zip(signals, masks)),
+        unpack_table=tuple((s.name, s.start, m, (1 << (s.length - 1)) if s.signed else 0, s.raw_min, s.raw_max,
+                            s.scale, s.offset, s.is_integer, s.choices) for s, m in zip(signals, masks)),
+        crc_seed=data_id_seed(message.frame_id),
     )
 
 

@@ -20,8 +20,8 @@ from typing import Iterable, Mapping
 
 import can
 
-from .counter import COUNTER_MODULUS, MAX_COUNTER_JUMP, counter_delta
-from .crc import e2e_p01_crc
+from .counter import COUNTER_MODULUS, MAX_COUNTER_JUMP
+from .crc import e2e_p01_crc8
 from .database import FRAME_LENGTH, LAYOUTS, LAYOUTS_BY_ID, MessageLayout
 from .errors import (
     ChecksumError,
@@ -48,23 +48,19 @@ class Frame:
     fresh: bool
 
 
-def _decode(layout: MessageLayout, data: bytes) -> dict[str, float]:
-    payload = int.from_bytes(data, "little")
+def _decode(layout: MessageLayout, payload: int) -> dict[str, float]:
+    """Signals (DBC units) of the 64-bit little-endian ``payload``; raises Range/EnumError."""
     values: dict[str, float] = {}
-    for sig in layout.signals:
-        raw = (payload >> sig.start) & ((1 << sig.length) - 1)
-        if sig.signed and raw >> (sig.length - 1):
-            raw -= 1 << sig.length
-        if raw < sig.raw_min or raw > sig.raw_max:
-            value = raw * sig.scale + sig.offset
-            raise RangeError(
-                f"{layout.name}.{sig.name}: expected {sig.minimum}..{sig.maximum}, got {value:g}"
-            )
-        if sig.choices and raw not in sig.choices:
-            raise EnumError(
-                f"{layout.name}.{sig.name}: expected one of {sorted(sig.choices)}, got {raw}"
-            )
-        values[sig.name] = raw if sig.is_integer else raw * sig.scale + sig.offset
+    for name, start, mask, sign_bit, raw_min, raw_max, scale, offset, is_integer, choices in layout.unpack_table:
+        raw = (payload >> start) & mask
+        if raw & sign_bit:
+            raw -= mask + 1
+        if raw < raw_min or raw > raw_max:
+            sig = next(sig for sig in layout.signals if sig.name == name)
+            raise RangeError(f"{layout.name}.{name}: expected {sig.minimum}..{sig.maximum}, got {raw * scale + offset:g}")
+        if choices and raw not in choices:
+            raise EnumError(f"{layout.name}.{name}: expected one of {sorted(choices)}, got {raw}")
+        values[name] = raw if is_integer else raw * scale + offset
     return values
 
 
@@ -125,27 +121,28 @@ class Receiver:
             raise LengthError(
                 f"{layout.name}: expected DLC {FRAME_LENGTH}, got {msg.dlc} ({len(data)} data bytes)"
             )
-        crc = e2e_p01_crc(layout.frame_id, data)
+        crc = e2e_p01_crc8(layout.crc_seed, data)
         if crc != data[0]:
             raise ChecksumError(f"{layout.name}: expected CRC 0x{crc:02X}, got 0x{data[0]:02X}")
         counter = data[1] & 0x0F
         if counter >= COUNTER_MODULUS:
             raise CounterError(f"{layout.name}: expected counter 0..14, got {counter}")
-        previous = self._last_counter.get(layout.name)
-        self._last_counter[layout.name] = counter  # resynchronise even after a jump
-        delta = 1 if previous is None else counter_delta(previous, counter)
+        name = layout.name
+        previous = self._last_counter.get(name)
+        self._last_counter[name] = counter  # resynchronise even after a jump
+        delta = 1 if previous is None else (counter - previous) % COUNTER_MODULUS
         if delta > MAX_COUNTER_JUMP:
             raise CounterError(
-                f"{layout.name}: expected counter {(previous + 1) % COUNTER_MODULUS}"
+                f"{name}: expected counter {(previous + 1) % COUNTER_MODULUS}"
                 f" (jump <= {MAX_COUNTER_JUMP}), got {counter}"
             )
         try:
-            signals = _decode(layout, bytes(data))
+            signals = _decode(layout, int.from_bytes(data, "little"))
         except FrameError:
             raise
         except Exception as exc:  # noqa: BLE001 - any decode failure is a frame error
-            raise DecodeError(f"{layout.name}: cannot decode payload {bytes(data).hex()}: {exc}") from exc
-        return Frame(name=layout.name, signals=signals, counter=counter, fresh=delta != 0)
+            raise DecodeError(f"{name}: cannot decode payload {bytes(data).hex()}: {exc}") from exc
+        return Frame(name, signals, counter, delta != 0)
 
     def receive(self, msg: can.Message) -> Frame | None:
         """Like :meth:`check` but never raises: rejected frames are counted, ``None`` returned.

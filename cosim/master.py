@@ -16,6 +16,12 @@ boundary, in this order:
    them) and computes the plant commands, which take effect from the NEXT
    cycle on (the natural one-cycle latency);
 5. the plant advances N steps with the commands computed one cycle earlier.
+   An FMU that declares an FMI 3 ``fixedInternalStepSize`` dividing ``h``
+   (and variable communication steps) gets them as ONE ``doStep`` of N·h:
+   its integrator takes the same internal steps either way and the inputs
+   are constant within the cycle, so the trajectory is the same (bit for
+   bit for our plant: ``tests/cosim/test_step_batching.py``). Any other FMU,
+   and every cycle in which a collision is possible, is stepped h at a time.
    (Overlapping this with the ECU process's cycle was measured slower on 2
    cores: the hub thread then contends for the GIL with the FMU stepping.)
 
@@ -83,7 +89,7 @@ class ClosedLoop:
     """One run of one strategy. Build, then :meth:`run`; the FMU and buses are closed after."""
 
     def __init__(self, scenario: Scenario, fmu_path: Path, strategy: str | None = None,
-                 profile: bool = False, ecu: EcuOptions | None = None) -> None:
+                 profile: bool = False, ecu: EcuOptions | None = None, batch_steps: bool = True) -> None:
         self.sc = scenario
         self.strategy = strategy or scenario.ecu.strategy
         self._ecu_cfg = ecu_config(scenario, self.strategy)
@@ -100,6 +106,7 @@ class ClosedLoop:
         self._cost = dict.fromkeys(PHASES, 0) if profile else None
         self.plant = FmuPlant(scenario.plant, fmu_path)
         self.record.fmu_path, self.record.fmu_sha256 = str(fmu_path), self.plant.sha256
+        self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
         try:
             self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S)
         except BaseException:
@@ -175,16 +182,20 @@ class ClosedLoop:
         closing = speed_mps - (self.obj.speed_mps if self.obj else 0.0)
         watch = self.obj is not None and gap_m <= max(closing, 0.0) * span + 0.5 * _ACCEL_BOUND_MPS2 * span**2 + 0.01
         collided = False
-        for _ in range(self.n_sub):
-            plant.step(k * h, h)
-            k += 1
-            if watch:
-                pos, v = plant.position_speed()
-                gap = self.obj.gap_m(k * h, pos + self.sc.plant.front_bumper_offset_m)
-                if gap <= 0.0:
-                    self._collide(k * h, gap, v)
-                    collided = True
-                    break
+        if self.batch_steps and not watch:
+            plant.step(k * h, span)
+            k += self.n_sub
+        else:
+            for _ in range(self.n_sub):
+                plant.step(k * h, h)
+                k += 1
+                if watch:
+                    pos, v = plant.position_speed()
+                    gap = self.obj.gap_m(k * h, pos + self.sc.plant.front_bumper_offset_m)
+                    if gap <= 0.0:
+                        self._collide(k * h, gap, v)
+                        collided = True
+                        break
         if self._cost is not None:
             self._cost["fmu"] += time.perf_counter_ns() - c0
         return k, collided
@@ -264,6 +275,14 @@ class ClosedLoop:
             self.plant.close()
         finally:
             self.link.close()
+
+
+def _divides(internal_step_s: float | None, h_s: float) -> bool:
+    """True when ``h_s`` is a whole number (>= 1) of the FMU's fixed internal steps."""
+    if not internal_step_s:
+        return False
+    ratio = h_s / internal_step_s
+    return ratio >= 1.0 - 1e-9 and abs(ratio - round(ratio)) <= 1e-9 * ratio
 
 
 def run_scenario(scenario: Scenario, fmu_path: Path, strategy: str | None = None,

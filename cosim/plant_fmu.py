@@ -88,6 +88,11 @@ class FmuPlant:
         if md.coSimulation is None:
             raise PlantError(f"{self.path}: expected a co-simulation FMU, got model exchange only")
         self.fmi_version = int(md.fmiVersion[0])
+        cs = md.coSimulation
+        #: FMI 3 ``fixedInternalStepSize`` (s) when the FMU declares one and takes variable steps, else None
+        self.fixed_internal_step_s: float | None = (
+            float(cs.fixedInternalStepSize)
+            if getattr(cs, "fixedInternalStepSize", None) and cs.canHandleVariableCommunicationStepSize else None)
         self._cfg = cfg
         self._md = md
         self._resolve_roles()
@@ -116,6 +121,16 @@ class FmuPlant:
         self._out_val = (ctypes.c_double * len(out_vrs))()
         self._pv_vr = (ctypes.c_uint32 * 2)(*self._out_vr[:2])  # position, speed (always mapped first)
         self._pv_val = (ctypes.c_double * 2)()
+        # read(): (index into the raw outputs, scale, offset) per SI value, fixed at start-up
+        conv, i = {}, 0
+        for m in self._out_maps:
+            conv[m.role] = [(i + j, m.scale, m.offset) for j in range(len(m.names))]
+            i += len(m.names)
+        radius = cfg.wheel_radius_m
+        wheels = [(j, s * radius, o * radius) for j, s, o in conv["wheel_speeds"]] if "wheel_speeds" in conv \
+            else conv["speed"]  # fewer than 4 names: repeated in order; none: the speed on every wheel
+        self._read_conv = (conv["position"][0], conv["speed"][0], conv["accel"][0] if "accel" in conv else None,
+                           tuple(wheels[n % len(wheels)] for n in range(4)))
 
     def _open(self, start_time_s: float) -> None:
         from fmpy.fmi2 import FMU2Slave
@@ -207,15 +222,11 @@ class FmuPlant:
     def read(self) -> PlantSample:
         """All mapped outputs, in SI."""
         self._call(self._get, self._out_vr, self._out_val, t_s=None, what="get outputs")
-        raw, i, si = self._out_val, 0, {}
-        for m in self._out_maps:
-            si[m.role] = [raw[i + j] * m.scale + m.offset for j in range(len(m.names))]
-            i += len(m.names)
-        speed = si["speed"][0]
-        radius = self._cfg.wheel_radius_m
-        wheels = [w * radius for w in si["wheel_speeds"]] if "wheel_speeds" in si else [speed]
-        four = tuple(wheels[i % len(wheels)] for i in range(4))  # fewer than 4 names: repeated in order
-        return PlantSample(si["position"][0], speed, si.get("accel", [0.0])[0], four)
+        raw = self._out_val
+        (ip, sp, op), (iv, sv, ov), accel, wheels = self._read_conv
+        a = 0.0 if accel is None else raw[accel[0]] * accel[1] + accel[2]
+        return PlantSample(raw[ip] * sp + op, raw[iv] * sv + ov, a,
+                           tuple([raw[j] * s + o for j, s, o in wheels]))
 
     def close(self) -> None:
         """Terminate and free the FMU; safe to call twice."""

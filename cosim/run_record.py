@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 TIMESERIES_COLUMNS = ("time_s", "position_m", "speed_mps", "accel_mps2", "throttle", "brake",
                       "ecu_mode", "gap_m", "accel_pedal_pct", "brake_pedal_pct")
 
 
-@dataclass(frozen=True, slots=True)
-class LoggedFrame:
-    """One bus frame with its simulation time stamp (s)."""
+class LoggedFrame(NamedTuple):
+    """One bus frame with its simulation time stamp (s); a tuple, as the master logs every frame."""
 
     t_s: float
     arbitration_id: int

@@ -123,6 +123,7 @@ def render_fmi3(token: str) -> str:
         f'<fmiModelDescription fmiVersion="3.0" modelName="{MODEL_NAME}" instantiationToken={quoteattr(token)}'
         f' description="{DESCRIPTION}" generationTool="crd fmu_plant" variableNamingConvention="flat">',
         f'  <CoSimulation modelIdentifier="{MODEL_IDENTIFIER}" canHandleVariableCommunicationStepSize="true"'
+        f' fixedInternalStepSize="{INTERNAL_STEP_S!r}"'
         ' canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="false"'
         ' canSerializeFMUState="false" hasEventMode="false" providesIntermediateUpdate="false"/>',
         *_unit_definitions(),
