@@ -51,6 +51,7 @@ CONFLICT_MODE = "SECOND_ECU"  # reported while two ECUs send SafetyOverride
 _OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
 #: a detected second sender keeps the overrides ignored until this long (s) without an excess.
 CONFLICT_HOLD_S = 1.0
+_MODE_NAMES = {int(mode): mode.name for mode in Mode}
 
 
 @dataclass(frozen=True, slots=True)
@@ -96,11 +97,11 @@ class Gateway:
         if not frame.fresh:  # repeated counter: no new data
             self._counter_anomaly = True
             return False
-        mode = Mode(int(frame.signals["Mode"])).name
+        mode = _MODE_NAMES[int(frame.signals["Mode"])]  # the receiver checked it against the DBC's VAL_
         if mode == "CONTINGENCY" and self.mode != "CONTINGENCY":
             self.contingency_invocations += 1
         self.mode = mode
-        self._signals = dict(frame.signals)
+        self._signals = frame.signals  # a dict of its own per frame (can_dbc.receiver._decode)
         self._last_fresh_t_s = t_s
         return True
 

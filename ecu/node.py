@@ -20,7 +20,6 @@ from __future__ import annotations
 import logging
 import threading
 from collections import Counter
-from dataclasses import replace
 
 import can
 
@@ -128,7 +127,7 @@ class EcuNode:
         state = self._state
         braking = state.held_contingency or state.mode == Mode.CONTINGENCY
         decel = self.config.contingency_decel_mps2 if braking else 0.0
-        self._state = replace(state, mode=Mode.FAULT, valid_cycles=0, held_contingency=braking,
+        self._state = state._replace(mode=Mode.FAULT, valid_cycles=0, held_contingency=braking,
                               prev_decel_request_mps2=decel)
         return CoreOutputs(
             mode=Mode.FAULT, override_active=True, throttle_limit_pct=0.0,

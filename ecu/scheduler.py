@@ -6,7 +6,9 @@ deadline the loop blocks in ``bus.recv`` and takes frames in as they arrive
 (stamped with the coming cycle's time ``k * cycle_s``, exactly as the drain
 in ``step`` would), then runs ``node.step(k * cycle_s)``. If a cycle
 starts a whole period or more late, the cycles it overran are counted as
-missed and skipped (the next deadline stays on the grid). Figures:
+missed and skipped (the next deadline stays on the grid). The last ``SPIN_S``
+(1 ms) of each wait polls the bus instead of blocking, so the cycle does not
+start late by an OS wake-up. Figures:
 
 * lag = start - deadline (s);
 * jitter = |(start_k - start_{k-1}) - cycle_s| between consecutive cycles (s);
@@ -43,6 +45,8 @@ log = logging.getLogger(__name__)
 
 WINDOW = 360_000
 RECV_POLL_S = 0.05
+#: the final part of each wait for a deadline that is spent polling instead of blocking (s)
+SPIN_S = 0.001
 
 
 @dataclass(frozen=True, slots=True)
@@ -150,12 +154,17 @@ def _receive_until(node: "EcuNode", receiver: _Receiver, deadline: float, t_s: f
     """Wait for the deadline while taking frames in as they arrive (they belong to cycle ``t_s``).
 
     Spreading the decoding over the idle time keeps a flood of frames from piling up
-    into one long drain at the start of the cycle.
+    into one long drain at the start of the cycle. The last ``SPIN_S`` before the
+    deadline are waited by polling the bus without blocking: waking from a blocking
+    wait can cost 0.1 to 2 ms on a virtual machine (both baselines are printed by
+    ``benchmarks/bench_ecu.py``); polling costs about 10 % of one core.
     """
     while (remaining := deadline - clock()) > 0.0:
-        msg = receiver.recv(remaining)
+        msg = receiver.recv(remaining - SPIN_S if remaining > SPIN_S else 0.0)
         if msg is not None:
             node.ingest(msg, t_s)
+        elif remaining <= SPIN_S:
+            time.sleep(0)  # lets another thread of this process (a bus reader, a sender) take the GIL
 
 
 def run_sim_time(node: "EcuNode", stop_event: threading.Event) -> RunReport:

@@ -5,13 +5,17 @@ All quantities are SI (m, m/s, m/s^2, s); pedals are fractions 0..1; the
 input was received (``-inf`` before the first one), and the ``*_e2e_score``
 fields are the codec's E2E validity scores (0 good .. 5 invalid). The shell
 converts DBC units to these at the codec boundary.
+
+They are ``NamedTuple``s: immutable like frozen dataclasses, and built about
+three times faster, which matters at three records per 10 ms cycle. Change
+one field with ``record._replace(field=value)``.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from enum import IntEnum
+from typing import NamedTuple
 
 NEVER_S = -math.inf
 
@@ -35,8 +39,7 @@ class FaultFlag(IntEnum):
     INTERNAL = 4
 
 
-@dataclass(frozen=True, slots=True)
-class CoreInputs:
+class CoreInputs(NamedTuple):
     """What the ECU knows at cycle time ``t_s``."""
 
     t_s: float
@@ -54,8 +57,7 @@ class CoreInputs:
     object_e2e_score: int = 0
 
 
-@dataclass(frozen=True, slots=True)
-class CoreState:
+class CoreState(NamedTuple):
     """Everything carried from one cycle to the next. The start-up state is ``CoreState()``."""
 
     mode: Mode = Mode.FAULT
@@ -72,8 +74,7 @@ class CoreState:
     gate_interventions: int = 0
 
 
-@dataclass(frozen=True, slots=True)
-class CoreOutputs:
+class CoreOutputs(NamedTuple):
     """The cycle's decision, after the output gate (values inside their DBC ranges)."""
 
     mode: Mode

@@ -1,6 +1,5 @@
 """The whole core cycle: contingency, fault handling and holding, determinism."""
 
-from dataclasses import replace
 
 from ecu.core import CoreInputs, CoreParams, CoreState, FaultFlag, Mode, step
 
@@ -43,7 +42,7 @@ def test_contingency_held_through_wheel_timeout_until_estimated_stop():
     state, _ = run(lambda t: fresh(t, range_m=200.0), 12)
     state, out = step(state, fresh(0.12, range_m=20.0), P)
     assert out.mode == Mode.CONTINGENCY
-    stale = lambda t: replace(fresh(t, range_m=20.0), wheel_rx_t_s=0.12)  # wheel speeds stop
+    stale = lambda t: fresh(t, range_m=20.0)._replace(wheel_rx_t_s=0.12)  # wheel speeds stop
     state, outs = run(stale, 400, state, 13)
     faulted = [o for o in outs if o.mode == Mode.FAULT]
     assert faulted and faulted[0].fault_flags & (1 << FaultFlag.WHEEL_SPEED_TIMEOUT)
@@ -56,7 +55,7 @@ def test_contingency_held_through_wheel_timeout_until_estimated_stop():
 
 def test_no_new_braking_from_invalid_data():
     state, _ = run(lambda t: fresh(t, range_m=200.0), 12)
-    stale = lambda t: replace(fresh(t, range_m=5.0), object_rx_t_s=0.11, object_e2e_score=5)
+    stale = lambda t: fresh(t, range_m=5.0)._replace(object_rx_t_s=0.11, object_e2e_score=5)
     state, outs = run(stale, 30, state, 12)
     assert all(o.mode == Mode.FAULT and o.brake_decel_request_mps2 == 0.0 for o in outs)
     assert outs[-1].fault_flags & (1 << FaultFlag.E2E_ERROR)
@@ -64,7 +63,7 @@ def test_no_new_braking_from_invalid_data():
 
 def test_non_finite_inputs_are_an_internal_fault_not_a_crash():
     state, _ = run(lambda t: fresh(t), 12)
-    state, out = step(state, replace(fresh(0.12), object_range_m=float("nan"), object_valid=True), P)
+    state, out = step(state, fresh(0.12)._replace(object_range_m=float("nan"), object_valid=True), P)
     assert out.mode == Mode.FAULT and out.fault_flags & (1 << FaultFlag.INTERNAL)
     assert out.throttle_limit_pct == 0.0
 
