@@ -47,7 +47,6 @@ import can
 
 from can_dbc import LAYOUTS, CounterSequence, encode
 from ecu import EcuConfig, EcuNode, Percentiles
-from ecu.scheduler import SPIN_S
 
 from .ecu_process import EcuProcess
 from .errors import CosimError
@@ -236,8 +235,8 @@ class BusLink:
     def pace(self, cycle: int) -> None:
         """Real time: wait for cycle ``cycle``'s wall-clock deadline; record lag and jitter."""
         deadline = self._t0 + cycle * self._cycle_s
-        while (remaining := deadline - time.perf_counter()) > 0.0:  # block, then poll the last SPIN_S
-            time.sleep(remaining - SPIN_S if remaining > SPIN_S else 0.0)
+        while (remaining := deadline - time.perf_counter()) > 0.0:
+            time.sleep(remaining if remaining > 0.002 else 0.0)
         start = time.perf_counter()
         self._lag.add(start - deadline)
         if self._prev_start is not None:

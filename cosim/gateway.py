@@ -14,9 +14,8 @@ when valid frames return. Time is passed in; nothing reads a clock.
 A second ECU on the bus: one ECU sends one ``SafetyOverride`` per 10 ms
 cycle. When more than ``conflict_window_cycles + conflict_slack`` of them
 arrive within the last ``conflict_window_cycles`` cycles (lock-step: window 1,
-slack 0, i.e. two in one cycle; real time: window 10, slack 3, which scheduling
-jitter of one sender does not reach), the gateway records a ``second_ecu``
-event, logs a warning and treats every ``SafetyOverride`` as invalid until
+slack 0, i.e. two in one cycle; real time: window 10, slack 3) the gateway
+records a ``second_ecu`` event, logs a warning and treats every ``SafetyOverride`` as invalid until
 ``CONFLICT_HOLD_S`` (1 s) has passed without an excess (the two senders'
 frames need not fall evenly into cycles, so a bare per-cycle test would
 flicker): the plant gets the driver's commands alone, exactly as after a
@@ -25,8 +24,14 @@ told apart on CAN (the E2E counters interleave), so neither is obeyed. In
 lock-step that interleaving is itself proof: one ECU sends exactly one frame
 per cycle with the next counter, so a repeated or jumping counter also marks
 a second sender, however the two senders' frames fall into cycles; the
-driver-only fallback is the same fail-silent state as a lost ECU. When one
-sender remains, the ``override_restored`` event marks the return.
+driver-only fallback is the same fail-silent state as a lost ECU. In real
+time a count alone is not proof: a stalled master (the host took the CPU for
+tens of ms) takes several cycles' frames at once. So there an excess counts
+only together with a repeated or jumping counter in the same window, which
+one sender never produces (its counter steps by one; a lost frame or two
+stays within the E2E tolerance), while two interleaved senders always do
+(their counters cannot both step by 1 to 2 modulo 15). When one sender
+remains, the ``override_restored`` event marks the return.
 """
 
 from __future__ import annotations
@@ -74,6 +79,7 @@ class Gateway:
         # so a repeated or jumping counter can only come from a second sender
         self._counters_prove_conflict = conflict_window_cycles == 1
         self._counter_anomaly = False
+        self._anomalies: deque[bool] = deque(maxlen=conflict_window_cycles)  # per cycle of the window
         self._conflict_until_t_s = -1.0
         self.conflict = False
         self._rx = Receiver(names=["SafetyOverride"])
@@ -109,9 +115,11 @@ class Gateway:
         self._window.append(self._in_cycle)
         self._in_cycle = 0
         seen = sum(self._window)
+        self._anomalies.append(self._counter_anomaly)
         counters = self._counters_prove_conflict and self._counter_anomaly
         self._counter_anomaly = False
-        if seen > self._conflict_limit or counters:
+        excess = seen > self._conflict_limit and (self._counters_prove_conflict or any(self._anomalies))
+        if excess or counters:
             self._conflict_until_t_s = t_s + CONFLICT_HOLD_S
         conflict = t_s < self._conflict_until_t_s
         if conflict and not self.conflict:

@@ -58,3 +58,38 @@ def test_bad_crc_frames_are_ignored():
     assert not gw.offer(msg, 0.0)
     assert gw.actuation(Pedals(100.0, 0.0), 0.0).throttle == 1.0
     assert gw.stats.get("ChecksumError") == 1
+
+
+def _real_time_run(batches):
+    """Feed ``batches[i]`` (a list of frames) in cycle i to a real-time gateway; return its events."""
+    gw = Gateway(GatewayConfig(override_timeout_s=1.0), conflict_window_cycles=10)
+    for i, frames in enumerate(batches):
+        for msg in frames:
+            gw.offer(msg, i * 0.01)
+        gw.actuation(Pedals(100.0, 0.0), i * 0.01)
+    return {e.kind: round(e.t_s, 3) for e in reversed(gw.events)}  # kind -> time of its first event
+
+
+def test_real_time_bunched_frames_of_one_ecu_are_not_a_second_ecu():
+    """A stalled master takes six cycles' frames at once: more than 13 in 10 cycles, but one sender."""
+    seq = CounterSequence()
+    batches = []
+    for i in range(300):
+        stalled = i % 30 in range(1, 6)
+        batches.append([] if stalled else [_override(seq.next()) for _ in range(6 if i % 30 == 6 else 1)])
+    assert sum(len(b) for b in batches[:40]) > 0 and max(len(b) for b in batches) == 6
+    assert "second_ecu" not in _real_time_run(batches)
+
+
+def test_real_time_two_senders_are_a_second_ecu():
+    """Interleaved counters fail E2E (so the gateway already falls back), and the excess names the cause."""
+    a, b = CounterSequence(), CounterSequence(start=7)
+    batches = [[_override(a.next()), _override(b.next())] for _ in range(30)]
+    assert _real_time_run(batches)["second_ecu"] <= 0.07  # 14 frames in 7 cycles
+
+
+def test_real_time_two_senders_in_step_are_a_second_ecu():
+    """Two ECUs started together send the same counters: the repeats give them away."""
+    a, b = CounterSequence(), CounterSequence()
+    batches = [[_override(a.next()), _override(b.next())] for _ in range(30)]
+    assert _real_time_run(batches) == {"second_ecu": 0.06}
