@@ -6,6 +6,8 @@ frames, and the echo throughput with up to ``--window`` frames in flight.
 
 Transports:
 
+- ``crd_pair``: ours (``ecu.transport.PairSocketBus``), two processes point to
+  point, no hub (both ends poll 2 ms before blocking);
 - ``crd_unix``: ours (``ecu.transport.UnixSocketBus``), hub in this process;
 - ``remote``: python-can-remote 0.3 (if installed), its server bound to
   127.0.0.1 on an ephemeral port, one ``virtual`` bus per client inside it;
@@ -144,6 +146,20 @@ def measure(bus: can.BusABC, round_trips: int, frames: int, window: int) -> dict
 
 
 @contextlib.contextmanager
+def _crd_pair(children: _Children):
+    from ecu.transport import PairSocketBus
+
+    with tempfile.TemporaryDirectory(prefix="crd-bench-") as tmp:
+        channel = os.path.join(tmp, "bus.sock")
+        with PairSocketBus(channel) as bus:
+            echo = children.start_echo("crd_pair", channel)
+            try:
+                yield bus
+            finally:
+                children.stop(echo)
+
+
+@contextlib.contextmanager
 def _crd_unix(children: _Children):
     from ecu.transport import UnixSocketBus
 
@@ -212,7 +228,8 @@ def _virtual(children: _Children):
             thread.join(2)
 
 
-TRANSPORTS = {"crd_unix (ours, 2 processes, hub in A)": _crd_unix,
+TRANSPORTS = {"crd_pair (ours, 2 processes, point to point)": _crd_pair,
+              "crd_unix (ours, 2 processes, hub in A)": _crd_unix,
               "crd_unix (ours, 2 processes + hub process)": _crd_unix_standalone_hub,
               "python-can-remote 0.3 (2 processes + server)": _remote,
               "virtual (in-process baseline, echo thread)": _virtual}

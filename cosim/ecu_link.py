@@ -4,8 +4,9 @@
 
 * ``inprocess`` (default): an :class:`ecu.EcuNode` on an in-process python-can
   virtual bus, stepped by the master (:class:`InProcessLink`);
-* ``process``: the master opens the bus first (on ``crd_unix`` it then hosts
-  the hub), spawns ``crd ecu`` (:mod:`cosim.ecu_process`), waits up to
+* ``process``: the master opens the bus first (``crd_pair`` in lock-step:
+  point to point, it listens; ``crd_unix`` in real time: it hosts the hub),
+  spawns ``crd ecu`` (:mod:`cosim.ecu_process`), waits up to
   ``join_timeout_s`` for it to join, and stops it by PID at the end;
 * ``attach``: an ECU already running on ``interface``/``channel``; the
   master waits up to ``join_timeout_s`` for it.
@@ -70,7 +71,8 @@ class EcuOptions:
     """Where the ECU runs and how the master talks to it (times in wall-clock s)."""
 
     mode: str = "inprocess"
-    interface: str = "crd_unix"
+    #: python-can interface; None: ``crd_pair`` for a spawned ECU in lock-step, else ``crd_unix``
+    interface: str | None = None
     channel: str | None = None  # process: a fresh socket in a private temp dir when None
     realtime: bool = False
     join_timeout_s: float = 10.0
@@ -78,6 +80,9 @@ class EcuOptions:
     stop_timeout_s: float = 5.0
 
     def __post_init__(self) -> None:
+        if self.interface is None:
+            pair = self.mode == "process" and not self.realtime
+            object.__setattr__(self, "interface", "crd_pair" if pair else "crd_unix")
         if self.mode not in ECU_MODES:
             raise EcuLinkError(f"ecu mode: expected one of {list(ECU_MODES)}, got {self.mode!r}")
         if self.mode == "attach" and not self.channel:
@@ -160,6 +165,7 @@ class BusLink:
         self.timing: dict[str, float] = {}
         self.ecu_report = ""
         self.lost = False
+        self.join_wait_s = 0.0
         self._clock_seq = CounterSequence()
         self._lag, self._jitter = _Samples(), _Samples()
         self._t0 = 0.0
@@ -187,7 +193,8 @@ class BusLink:
 
     def start(self) -> None:
         """Wait (at most ``join_timeout_s``) for the ECU to join; drop anything sent before."""
-        deadline = time.monotonic() + self.options.join_timeout_s
+        started = time.monotonic()
+        deadline = started + self.options.join_timeout_s
         counts = hasattr(self.bus, "peer_count")
         while True:
             if self.process is not None and not self.process.alive():
@@ -208,6 +215,7 @@ class BusLink:
             pass
         self._t0 = time.perf_counter()
         self._last_rx_wall = time.monotonic()
+        self.join_wait_s = self._last_rx_wall - started
 
     # -- one cycle ---------------------------------------------------------------
     def send(self, t_s: float, cycle: int, frames: list[can.Message], cost: dict | None) -> list[can.Message]:

@@ -265,6 +265,7 @@ class ClosedLoop:
         self.record.events[:0] = self.link.events
         self.record.timing = dict(self.link.timing)
         self.record.ecu_report = getattr(self.link, "ecu_report", "")
+        self.record.ecu_join_wait_s = getattr(self.link, "join_wait_s", 0.0)
         self.record.events.sort(key=lambda e: e.t_s)
         if self._cost is not None and cycles:
             self.record.cycle_cost_s = {k: v / cycles / 1e9 for k, v in self._cost.items()}

@@ -57,6 +57,7 @@ class RunRecord:
     cycle_cost_s: dict[str, float] = field(default_factory=dict)  # filled when profiling
     timing: dict[str, float] = field(default_factory=dict)  # real time: the master's lag/jitter (s)
     ecu_report: str = ""  # what a spawned crd ecu printed (its run summary)
+    ecu_join_wait_s: float = 0.0  # wall time spent waiting for an out-of-process ECU to join (in wall_time_s)
 
     def column(self, name: str) -> list:
         i = TIMESERIES_COLUMNS.index(name)

@@ -1,7 +1,9 @@
-"""Cross-process loopback CAN transport: ``UnixSocketBus`` and its broadcast ``Hub``.
+"""Cross-process loopback CAN transports: ``UnixSocketBus`` and its broadcast ``Hub``, and ``PairSocketBus``.
 
-Registered with python-can as interface ``crd_unix``:
-``can.Bus(interface="crd_unix", channel="/tmp/crd-can0.sock")``. See README.md.
+Registered with python-can as interfaces ``crd_unix`` (any number of
+participants, through a hub) and ``crd_pair`` (exactly two, point to point, for
+lock-step round trips): ``can.Bus(interface="crd_unix", channel="/tmp/crd-can0.sock")``.
+See README.md.
 Names are imported lazily so that ``python -m ecu.transport.hub`` runs cleanly.
 """
 
@@ -10,9 +12,10 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-__all__ = ["Hub", "UnixSocketBus"]
+__all__ = ["Hub", "PairSocketBus", "UnixSocketBus"]
 
-_WHERE = {"Hub": "ecu.transport.hub", "UnixSocketBus": "ecu.transport.unix_bus"}
+_WHERE = {"Hub": "ecu.transport.hub", "PairSocketBus": "ecu.transport.pair_bus",
+          "UnixSocketBus": "ecu.transport.unix_bus"}
 
 
 def __getattr__(name: str) -> Any:

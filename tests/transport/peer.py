@@ -6,7 +6,8 @@ connected, then:
 - ``echo``: sends back every frame it receives, until stdin closes;
 - ``hold``: does nothing until killed or stdin closes.
 
-``HUB`` is the ``hub=`` argument of the bus (default ``connect``).
+``HUB`` is the ``hub=`` argument of the bus (default ``connect``), or ``pair``:
+then the bus is a ``crd_pair`` ``PairSocketBus`` that connects to a listener.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import threading
 
 import can
 
-from ecu.transport import UnixSocketBus
+from ecu.transport import PairSocketBus, UnixSocketBus
 
 
 def main(argv: list[str]) -> int:
@@ -24,7 +25,8 @@ def main(argv: list[str]) -> int:
     hub = argv[2] if len(argv) > 2 else "connect"
     stop = threading.Event()
     threading.Thread(target=lambda: (sys.stdin.read(), stop.set()), daemon=True).start()
-    with UnixSocketBus(channel, hub=hub) as bus:
+    bus = PairSocketBus(channel, role="connect") if hub == "pair" else UnixSocketBus(channel, hub=hub)
+    with bus:
         print("READY", flush=True)
         while not stop.is_set():
             try:

@@ -1,0 +1,98 @@
+"""``crd_pair``: two participants, point to point; order, errors, a refused third, python-can registration."""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+
+import can
+import pytest
+
+from ecu.transport import PairSocketBus
+
+
+def _frame(i: int) -> can.Message:
+    return can.Message(arbitration_id=0x100 + i % 0x600, is_extended_id=False, data=i.to_bytes(4, "little"))
+
+
+def _wait_peer(bus: PairSocketBus, timeout_s: float = 10.0) -> None:
+    deadline = time.monotonic() + timeout_s
+    while bus.peer_count < 1:
+        assert time.monotonic() < deadline, "no peer joined"
+        time.sleep(0.01)
+
+
+def test_two_buses_exchange_frames_in_order_both_ways(channel: str) -> None:
+    with can.Bus(interface="crd_pair", channel=channel) as a, PairSocketBus(channel, role="connect") as b:
+        _wait_peer(a)
+        assert b.peer_count == 1
+        for i in range(500):
+            a.send(_frame(i))
+        got = [b.recv(timeout=2.0) for _ in range(500)]
+        assert [int.from_bytes(m.data, "little") for m in got] == list(range(500))
+        assert all(m.is_rx and m.channel == channel for m in got)
+        b.send(_frame(7))
+        back = a.recv(timeout=2.0)
+        assert back.arbitration_id == 0x107 and a.recv(timeout=0.0) is None and b.recv(timeout=0.0) is None
+
+
+def test_no_peer_is_an_error_on_send_and_a_timeout_on_recv(channel: str) -> None:
+    with PairSocketBus(channel) as alone:
+        with pytest.raises(can.CanOperationError, match="no peer"):
+            alone.send(_frame(1))
+        started = time.monotonic()
+        assert alone.recv(timeout=0.05) is None
+        assert time.monotonic() - started < 1.0
+    with pytest.raises(can.CanInitializationError, match="found none"):
+        PairSocketBus(channel, role="connect")
+
+
+def test_a_peer_that_leaves_is_reported_after_its_frames(channel: str) -> None:
+    with PairSocketBus(channel) as a:
+        b = PairSocketBus(channel, role="connect")
+        _wait_peer(a)
+        b.send(_frame(3))
+        b.shutdown()
+        assert a.recv(timeout=2.0).arbitration_id == 0x103  # the frame sent before BYE still arrives
+        with pytest.raises(can.CanOperationError, match="left"):
+            a.recv(timeout=1.0)
+        with pytest.raises(can.CanOperationError, match="left"):
+            a.send(_frame(4))
+        assert a.peer_count == 0
+    assert not os.path.exists(channel)  # the listener removed its socket file
+
+
+def test_a_killed_peer_process_is_a_bus_error_not_a_hang(channel: str, processes) -> None:
+    with PairSocketBus(channel) as bus:
+        peer = processes.start_peer("echo", channel, "pair")
+        _wait_peer(bus)
+        bus.send(_frame(5))
+        assert bus.recv(timeout=5.0).arbitration_id == 0x105  # echoed by the other process
+        os.kill(peer.pid, signal.SIGKILL)
+        peer.wait(timeout=10)
+        started = time.monotonic()
+        with pytest.raises(can.CanOperationError, match="without BYE"):
+            bus.recv(timeout=5.0)
+        assert time.monotonic() - started < 5.0
+        assert bus.peer_count == 0
+
+
+def test_a_third_participant_is_refused(channel: str, caplog) -> None:
+    with PairSocketBus(channel) as a, PairSocketBus(channel, role="connect") as b:
+        _wait_peer(a)
+        third = PairSocketBus(channel, role="connect")
+        try:
+            with caplog.at_level("WARNING", logger="ecu.transport.pair_bus"):
+                a.send(_frame(1))  # the listener takes (and refuses) waiting connections here
+            assert any("third participant" in r.getMessage() for r in caplog.records)
+            with pytest.raises(can.CanOperationError, match="without BYE"):
+                third.recv(timeout=2.0)
+            assert b.recv(timeout=2.0).arbitration_id == 0x101  # the pair itself is untouched
+        finally:
+            third.shutdown()
+
+
+def test_spin_must_not_be_negative(channel: str) -> None:
+    with pytest.raises(can.CanInitializationError, match="spin_s"):
+        PairSocketBus(channel, spin_s=-1.0)
