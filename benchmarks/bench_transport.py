@@ -146,31 +146,24 @@ def measure(bus: can.BusABC, round_trips: int, frames: int, window: int) -> dict
 
 
 @contextlib.contextmanager
+def _ours(children: _Children, interface: str):
+    """This process opens ``interface`` first (listener or hub), then the echo process joins."""
+    with tempfile.TemporaryDirectory(prefix="crd-bench-") as tmp:
+        channel = os.path.join(tmp, "bus.sock")
+        with can.Bus(interface=interface, channel=channel) as bus:
+            echo = children.start_echo(interface, channel)
+            try:
+                yield bus
+            finally:
+                children.stop(echo)
+
+
 def _crd_pair(children: _Children):
-    from ecu.transport import PairSocketBus
-
-    with tempfile.TemporaryDirectory(prefix="crd-bench-") as tmp:
-        channel = os.path.join(tmp, "bus.sock")
-        with PairSocketBus(channel) as bus:
-            echo = children.start_echo("crd_pair", channel)
-            try:
-                yield bus
-            finally:
-                children.stop(echo)
+    return _ours(children, "crd_pair")
 
 
-@contextlib.contextmanager
 def _crd_unix(children: _Children):
-    from ecu.transport import UnixSocketBus
-
-    with tempfile.TemporaryDirectory(prefix="crd-bench-") as tmp:
-        channel = os.path.join(tmp, "bus.sock")
-        with UnixSocketBus(channel) as bus:
-            echo = children.start_echo("crd_unix", channel)
-            try:
-                yield bus
-            finally:
-                children.stop(echo)
+    return _ours(children, "crd_unix")
 
 
 @contextlib.contextmanager

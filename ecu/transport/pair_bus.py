@@ -27,7 +27,6 @@ the frames already received, ``recv``); ``peer_count`` is then 0.
 from __future__ import annotations
 
 import collections
-import errno
 import fcntl
 import logging
 import os
@@ -40,12 +39,11 @@ import can
 
 from ecu.transport import wire
 from ecu.transport.hub import SOCKET_BUFFER_BYTES
-from ecu.transport.unix_bus import _check_path
+from ecu.transport.socket_path import check_path, connect_or_none
 
 LOG = logging.getLogger(__name__)
 
 _READ_CHUNK_BYTES = 1 << 16
-_NO_LISTENER_ERRNOS = (errno.ENOENT, errno.ECONNREFUSED)
 DEFAULT_SPIN_S = 0.002
 
 
@@ -72,7 +70,7 @@ class PairSocketBus(can.BusABC):
                  role: Literal["auto", "connect"] = "auto", spin_s: float = DEFAULT_SPIN_S,
                  send_timeout_s: float = 5.0, **kwargs: Any) -> None:
         path = os.fspath(channel)
-        _check_path(path)
+        check_path(path)
         if role not in ("auto", "connect"):
             raise can.CanInitializationError(f"role must be 'auto' or 'connect', got {role!r}")
         if not spin_s >= 0.0:
@@ -267,13 +265,7 @@ def _tune(sock: socket.socket) -> None:
 
 
 def _connect(path: str) -> socket.socket | None:
-    sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    try:
-        sock.connect(path)
-    except OSError as exc:
-        sock.close()
-        if exc.errno in _NO_LISTENER_ERRNOS:
-            return None
-        raise can.CanInitializationError(f"cannot connect to {path}: {exc}") from exc
-    _tune(sock)
+    sock = connect_or_none(path, "a crd_pair peer")
+    if sock is not None:
+        _tune(sock)
     return sock

@@ -32,7 +32,6 @@ Filters are python-can's software filters (``BusABC.recv`` applies them, as
 from __future__ import annotations
 
 import collections
-import errno
 import fcntl
 import logging
 import os
@@ -46,13 +45,12 @@ from typing import Any, Literal
 import can
 
 from ecu.transport import wire
-from ecu.transport.hub import SOCKET_BUFFER_BYTES, Hub
+from ecu.transport.hub import Hub
+from ecu.transport.socket_path import check_path, connect_or_none
 
 LOG = logging.getLogger(__name__)
 
-MAX_PATH_BYTES = 107  # sizeof(sockaddr_un.sun_path) - 1 on Linux
 _READ_CHUNK_BYTES = 1 << 16
-_NO_HUB_ERRNOS = (errno.ENOENT, errno.ECONNREFUSED)
 
 
 @dataclass(frozen=True)
@@ -86,7 +84,7 @@ class UnixSocketBus(can.BusABC):
                  hub: Literal["auto", "connect"] = "auto", send_timeout_s: float = 5.0,
                  max_queue_frames: int = 200_000, **kwargs: Any) -> None:
         path = os.fspath(channel)
-        _check_path(path)
+        check_path(path)
         self._sock, self._hub = _open_channel(path, hub)
         self.channel = path
         self.channel_info = f"crd_unix hub {path}"
@@ -255,32 +253,11 @@ class UnixSocketBus(can.BusABC):
                     f"send timed out: expected the hub to accept a frame within {timeout_s} s, it did not")
 
 
-def _check_path(path: str) -> None:
-    size = len(os.fsencode(path))
-    if not path or size > MAX_PATH_BYTES:
-        raise can.CanInitializationError(
-            f"channel must be a socket path of 1..{MAX_PATH_BYTES} bytes, got {size} bytes: {path!r}")
-
-
-def _try_connect(path: str) -> socket.socket | None:
-    sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    try:
-        sock.connect(path)
-    except OSError as exc:
-        sock.close()
-        if exc.errno in _NO_HUB_ERRNOS:
-            return None
-        raise can.CanInitializationError(f"cannot connect to hub at {path}: {exc}") from exc
-    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, SOCKET_BUFFER_BYTES)
-    sock.setblocking(False)
-    return sock
-
-
 def _open_channel(path: str, hub_mode: str) -> tuple[socket.socket, Hub | None]:
     """Connect to the hub at ``path``, starting one here when allowed and none is alive."""
     if hub_mode not in ("auto", "connect"):
         raise can.CanInitializationError(f"hub must be 'auto' or 'connect', got {hub_mode!r}")
-    sock = _try_connect(path)
+    sock = connect_or_none(path, "the hub")
     if sock is not None:
         return sock, None
     if hub_mode == "connect":
@@ -289,14 +266,14 @@ def _open_channel(path: str, hub_mode: str) -> tuple[socket.socket, Hub | None]:
     lock_fd = os.open(path + ".lock", os.O_CREAT | os.O_RDWR, 0o600)
     try:
         fcntl.flock(lock_fd, fcntl.LOCK_EX)
-        sock = _try_connect(path)
+        sock = connect_or_none(path, "the hub")
         if sock is not None:
             return sock, None
         if os.path.lexists(path):
             LOG.info("removing stale hub socket %s", path)
             os.unlink(path)
         hub = Hub(path).start()
-        sock = _try_connect(path)
+        sock = connect_or_none(path, "the hub")
         if sock is None:
             hub.stop()
             raise can.CanInitializationError(f"started a hub on {path} but could not connect to it")
