@@ -21,25 +21,23 @@ from .database import LAYOUTS, FRAME_LENGTH, MessageLayout
 from .errors import SignalError
 
 
-def _pack(layout: MessageLayout, signals: Mapping[str, float]) -> int:
-    payload = 0
+def _signal_error(layout: MessageLayout, signals: Mapping[str, float]) -> SignalError:
+    """The error for the first signal of ``layout`` that ``signals`` lacks or cannot encode."""
     for sig in layout.signals:
-        try:
-            value = signals[sig.name]
-        except KeyError:
+        if sig.name not in signals:
             unknown = sorted(set(signals) - {s.name for s in layout.signals})
             hint = f"; unknown signals {unknown}" if unknown else ""
-            raise SignalError(f"{layout.name}: missing signal {sig.name}{hint}") from None
+            return SignalError(f"{layout.name}: missing signal {sig.name}{hint}")
+        value = signals[sig.name]
         if not math.isfinite(value):
-            raise SignalError(f"{layout.name}.{sig.name}: expected a finite value, got {value}")
+            return SignalError(f"{layout.name}.{sig.name}: expected a finite value, got {value}")
         raw = round((value - sig.offset) / sig.scale)
         if raw < sig.raw_min or raw > sig.raw_max:
-            raise SignalError(
+            return SignalError(
                 f"{layout.name}.{sig.name}: expected {sig.minimum}..{sig.maximum} {sig.unit}".rstrip()
                 + f", got {value}"
             )
-        payload |= (raw & ((1 << sig.length) - 1)) << sig.start
-    return payload
+    return SignalError(f"{layout.name}: cannot encode {dict(signals)}")
 
 
 def encode_payload(message_name: str, signals: Mapping[str, float], counter: int) -> bytearray:
@@ -61,9 +59,8 @@ def encode_payload(message_name: str, signals: Mapping[str, float], counter: int
             if raw < raw_min or raw > raw_max:
                 raise ValueError
             payload |= (raw & mask) << start
-    except (KeyError, ValueError, OverflowError, TypeError):
-        _pack(layout, signals)  # raises the SignalError that names the signal
-        raise
+    except (KeyError, ValueError, OverflowError) as exc:
+        raise _signal_error(layout, signals) from exc
     data = bytearray(payload.to_bytes(FRAME_LENGTH, "little"))
     data[0] = e2e_p01_crc8(layout.crc_seed, data)
     return data

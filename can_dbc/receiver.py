@@ -20,7 +20,7 @@ from typing import Iterable, Mapping
 
 import can
 
-from .counter import COUNTER_MODULUS, MAX_COUNTER_JUMP
+from .counter import COUNTER_MODULUS, MAX_COUNTER_JUMP, counter_delta
 from .crc import e2e_p01_crc8
 from .database import FRAME_LENGTH, LAYOUTS, LAYOUTS_BY_ID, MessageLayout
 from .errors import (
@@ -130,7 +130,7 @@ class Receiver:
         name = layout.name
         previous = self._last_counter.get(name)
         self._last_counter[name] = counter  # resynchronise even after a jump
-        delta = 1 if previous is None else (counter - previous) % COUNTER_MODULUS
+        delta = 1 if previous is None else counter_delta(previous, counter)
         if delta > MAX_COUNTER_JUMP:
             raise CounterError(
                 f"{name}: expected counter {(previous + 1) % COUNTER_MODULUS}"

@@ -216,8 +216,8 @@ class FmuPlant:
     def position_speed(self) -> tuple[float, float]:
         """Position (m) and speed (m/s) only: the cheap read used between ECU cycles."""
         self._call(self._get, self._pv_vr, self._pv_val, t_s=None, what="get outputs")
-        p, s = self._out_maps[0], self._out_maps[1]
-        return self._pv_val[0] * p.scale + p.offset, self._pv_val[1] * s.scale + s.offset
+        (_, sp, op), (_, sv, ov) = self._read_conv[0], self._read_conv[1]
+        return self._pv_val[0] * sp + op, self._pv_val[1] * sv + ov
 
     def read(self) -> PlantSample:
         """All mapped outputs, in SI."""
