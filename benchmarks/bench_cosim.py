@@ -29,10 +29,10 @@ import time
 from pathlib import Path
 
 from cosim.cli.paper import PAPER_SCENARIO
-from cosim.experiment import resolve_fmu
-from cosim.master import PHASES, ClosedLoop, run_scenario
-from cosim.plant_fmu import FmuPlant
-from cosim.scenario_loader import load_scenario
+from cosim.loop.experiment import resolve_fmu
+from cosim.loop.master import PHASES, ClosedLoop, run_scenario
+from cosim.world.plant_fmu import FmuPlant
+from cosim.scenarios.loader import load_scenario
 
 
 def plant_alone_s(scenario, fmu_path: Path, sim_time_s: float, batched: bool) -> float:

@@ -15,7 +15,7 @@
    ``crd ecu`` running ``EcuNode.run`` on ``crd_unix``: cycle lag and jitter
    p50/p99/max of the master and of the ECU (goal: jitter p99 <= 2 ms).
 
-Every ECU process is started and stopped by PID (cosim.ecu_process).
+Every ECU process is started and stopped by PID (cosim.link.ecu_process).
 
 Run: ``python benchmarks/bench_hil.py [--realtime-s 60] [--round-trips 3000] [--skip-paper]``
 """
@@ -33,11 +33,11 @@ import can
 
 from can_dbc import CounterSequence, encode
 from cosim.cli.paper import PAPER_SCENARIO
-from cosim.ecu_link import EcuOptions
-from cosim.ecu_process import EcuProcess
-from cosim.experiment import resolve_fmu
-from cosim.master import ecu_config, run_scenario
-from cosim.scenario_loader import load_scenario, scenario_from_dict
+from cosim.link.ecu_link import EcuOptions
+from cosim.link.ecu_process import EcuProcess
+from cosim.loop.experiment import resolve_fmu
+from cosim.loop.master import ecu_config, run_scenario
+from cosim.scenarios.loader import load_scenario, scenario_from_dict
 
 STRATEGIES = ("none", "conservative", "tightening")
 

@@ -6,9 +6,9 @@ frames, and the echo throughput with up to ``--window`` frames in flight.
 
 Transports:
 
-- ``crd_pair``: ours (``ecu.transport.PairSocketBus``), two processes point to
+- ``crd_pair``: ours (``can_transport.PairSocketBus``), two processes point to
   point, no hub (both ends poll 2 ms before blocking);
-- ``crd_unix``: ours (``ecu.transport.UnixSocketBus``), hub in this process;
+- ``crd_unix``: ours (``can_transport.UnixSocketBus``), hub in this process;
 - ``remote``: python-can-remote 0.3 (if installed), its server bound to
   127.0.0.1 on an ephemeral port, one ``virtual`` bus per client inside it;
   measured only, never a dependency of the project;
@@ -168,11 +168,11 @@ def _crd_unix(children: _Children):
 
 @contextlib.contextmanager
 def _crd_unix_standalone_hub(children: _Children):
-    from ecu.transport import UnixSocketBus
+    from can_transport import UnixSocketBus
 
     with tempfile.TemporaryDirectory(prefix="crd-bench-") as tmp:
         channel = os.path.join(tmp, "bus.sock")
-        hub = children.start("-m", "ecu.transport.hub", channel)
+        hub = children.start("-m", "can_transport.hub", channel)
         hub.stdout.readline()
         with UnixSocketBus(channel, hub="connect") as bus:
             echo = children.start_echo("crd_unix", channel)

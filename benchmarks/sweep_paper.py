@@ -11,10 +11,10 @@ import itertools
 from types import MappingProxyType
 
 from cosim.cli.paper import PAPER_SCENARIO
-from cosim.experiment import resolve_fmu
-from cosim.master import run_scenario
-from cosim.paper_claims import REQUIRED, evaluate
-from cosim.scenario_loader import load_scenario
+from cosim.loop.experiment import resolve_fmu
+from cosim.loop.master import run_scenario
+from cosim.results.paper_claims import REQUIRED, evaluate
+from cosim.scenarios.loader import load_scenario
 
 GRID = {
     "actuation_latency_s": (0.1, 0.2, 0.3),

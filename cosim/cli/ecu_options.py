@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import argparse
 
-from ..ecu_link import ECU_MODES, EcuOptions
-from ..run_record import RunRecord
+from ..link.ecu_link import ECU_MODES, EcuOptions
+from ..results.run_record import RunRecord
 
 
 def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
-    g = parser.add_argument_group("ECU placement (see cosim/ecu_link.py)")
+    g = parser.add_argument_group("ECU placement (see cosim/link/ecu_link.py)")
     g.add_argument("--ecu", choices=ECU_MODES, default="inprocess",
                    help="inprocess (default); process: spawn `crd ecu` on the bus and stop it at the end; "
                         "attach: use an ECU already running on --bus-channel")

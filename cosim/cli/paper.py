@@ -2,7 +2,7 @@
 
 Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``,
 writes every run's outputs and ``speed_profiles.png``, prints a table and each
-claim of the paper with PASS or FAIL (:mod:`cosim.paper_claims`), and exits 3
+claim of the paper with PASS or FAIL (:mod:`cosim.results.paper_claims`), and exits 3
 if any claim fails.
 """
 
@@ -12,9 +12,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..experiment import run_strategies
-from ..paper_claims import REQUIRED, evaluate
-from ..scenario_loader import load_scenario
+from ..loop.experiment import run_strategies
+from ..results.paper_claims import REQUIRED, evaluate
+from ..scenarios.loader import load_scenario
 from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
 from .progress import end_progress, progress_printer, results_table
 

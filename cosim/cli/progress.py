@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from typing import Callable
 
-from ..run_record import RunRecord
+from ..results.run_record import RunRecord
 
 
 def progress_printer(strategy: str) -> Callable[[float, float], None]:

@@ -11,9 +11,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..experiment import check_run, run_strategies
-from ..scenario_config import STRATEGIES
-from ..scenario_loader import load_scenario
+from ..loop.experiment import check_run, run_strategies
+from ..scenarios.config import STRATEGIES
+from ..scenarios.loader import load_scenario
 from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
 from .progress import end_progress, progress_printer, results_table
 

@@ -12,9 +12,9 @@ import pytest
 from can_dbc import DBC_PATH
 from cosim.cli.main import main as crd
 from cosim.cli.paper import PAPER_SCENARIO
-from cosim.experiment import run_strategies
-from cosim.master import run_scenario
-from cosim.scenario_loader import load_scenario, scenario_from_dict
+from cosim.loop.experiment import run_strategies
+from cosim.loop.master import run_scenario
+from cosim.scenarios.loader import load_scenario, scenario_from_dict
 
 SHORT = {"scenario": {"duration_s": 7.0, "seed": 3},
          "object": {"position_m": 40.0},

@@ -19,11 +19,11 @@ from pathlib import Path
 import pytest
 
 from cosim.cli.paper import PAPER_SCENARIO
-from cosim.ecu_link import EcuLinkError, EcuOptions
-from cosim.ecu_process import EcuProcess
-from cosim.master import ClosedLoop, ecu_config, run_scenario
-from cosim.results_writer import write_timeseries
-from cosim.scenario_loader import load_scenario, scenario_from_dict
+from cosim.link.ecu_link import EcuLinkError, EcuOptions
+from cosim.link.ecu_process import EcuProcess
+from cosim.loop.master import ClosedLoop, ecu_config, run_scenario
+from cosim.results.writer import write_timeseries
+from cosim.scenarios.loader import load_scenario, scenario_from_dict
 
 #: a short scenario in which the tightening ECU limits the throttle (object 25 m ahead)
 SHORT = {"scenario": {"duration_s": 3.0}, "object": {"position_m": 25.0}}
@@ -138,7 +138,7 @@ def test_a_second_ecu_on_the_bus_is_detected_and_not_obeyed(plant_fmu3, sock_dir
         while loop.link.bus.peer_count < 2:
             assert time.monotonic() < deadline, "the two ECU processes did not join"
             time.sleep(0.01)
-        with caplog.at_level(logging.WARNING, logger="cosim.gateway"):
+        with caplog.at_level(logging.WARNING, logger="cosim.world.gateway"):
             rec = loop.run()
     finally:
         for p in ecus:
@@ -185,7 +185,7 @@ def test_options_are_checked():
 def test_ecu_process_config_round_trips_exactly(tmp_path):
     from ecu import EcuConfig
 
-    from cosim.ecu_process import write_ecu_config
+    from cosim.link.ecu_process import write_ecu_config
 
     cfg = EcuConfig(strategy="conservative", standoff_m=2.1, actuation_latency_s=0.1 + 0.2)
     back = EcuConfig.from_toml(write_ecu_config(tmp_path / "e.toml", cfg))

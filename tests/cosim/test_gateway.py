@@ -3,9 +3,9 @@
 import pytest
 
 from can_dbc import CounterSequence, encode
-from cosim.driver_models import Pedals
-from cosim.gateway import Gateway
-from cosim.scenario_config import GatewayConfig
+from cosim.world.driver_models import Pedals
+from cosim.world.gateway import Gateway
+from cosim.scenarios.config import GatewayConfig
 
 
 def _override(counter, mode=2, active=1, limit=0.0, decel=6.0):

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from cosim.driver_models import make_driver
-from cosim.radar_model import RadarModel
-from cosim.scenario_config import DriverConfig, RadarConfig
+from cosim.world.driver_models import make_driver
+from cosim.world.radar_model import RadarModel
+from cosim.scenarios.config import DriverConfig, RadarConfig
 
 
 def test_full_throttle_ignores_everything():

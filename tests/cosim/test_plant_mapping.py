@@ -5,8 +5,8 @@ import dataclasses
 import pytest
 
 from cosim.errors import MappingError, PlantError
-from cosim.plant_fmu import FmuPlant
-from cosim.scenario_config import PlantConfig, SignalMap
+from cosim.world.plant_fmu import FmuPlant
+from cosim.scenarios.config import PlantConfig, SignalMap
 
 
 def _with(plant_cfg, **roles):

@@ -5,8 +5,8 @@ import tomllib
 import pytest
 
 from cosim.errors import ConfigError
-from cosim.scenario_loader import load_scenario, scenario_from_dict
-from cosim.scenario_resolve import scenario_to_toml
+from cosim.scenarios.loader import load_scenario, scenario_from_dict
+from cosim.scenarios.resolve import scenario_to_toml
 from cosim.cli.paper import PAPER_SCENARIO
 
 

@@ -3,8 +3,8 @@
 import pytest
 
 from cosim.cli.paper import PAPER_SCENARIO
-from cosim.master import ClosedLoop, _divides
-from cosim.scenario_loader import load_scenario
+from cosim.loop.master import ClosedLoop, _divides
+from cosim.scenarios.loader import load_scenario
 
 
 def _run(fmu, strategy: str, batch: bool):
@@ -26,7 +26,7 @@ def test_batched_steps_give_the_same_run(plant_fmu3, strategy):
 def test_only_an_fmu_declaring_a_fixed_internal_step_is_batched():
     from fmu_plant.build import ensure_fmu
 
-    from cosim.plant_fmu import FmuPlant
+    from cosim.world.plant_fmu import FmuPlant
 
     scenario = load_scenario(PAPER_SCENARIO)
     with FmuPlant(scenario.plant, ensure_fmu(fmi_version=3)) as fmi3, \

@@ -253,7 +253,7 @@ class ProcessBackend(RealTimeBackend):
     join_timeout_s = 10.0
 
     def __init__(self, config: EcuConfig, channel: str) -> None:
-        from cosim.ecu_process import EcuProcess  # the harness launches; the ECU imports nothing of cosim
+        from cosim.link.ecu_process import EcuProcess  # the harness launches; the ECU imports nothing of cosim
 
         self._dir = Path(tempfile.mkdtemp(prefix="crd-hil-"))
         socket_path = str(self._dir / "can.sock")

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from ecu.transport import UnixSocketBus
+from can_transport import UnixSocketBus
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 START_TIMEOUT_S = 10.0
@@ -41,7 +41,7 @@ class Processes:
         return proc
 
     def start_hub(self, channel: str) -> subprocess.Popen:
-        proc = self.start("-m", "ecu.transport.hub", channel)
+        proc = self.start("-m", "can_transport.hub", channel)
         assert proc.stdout.readline().startswith("hub listening")
         return proc
 

@@ -17,7 +17,7 @@ import threading
 
 import can
 
-from ecu.transport import PairSocketBus, UnixSocketBus
+from can_transport import PairSocketBus, UnixSocketBus
 
 
 def main(argv: list[str]) -> int:

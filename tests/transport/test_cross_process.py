@@ -10,7 +10,7 @@ import time
 import can
 import pytest
 
-from ecu.transport import UnixSocketBus
+from can_transport import UnixSocketBus
 from tests.transport.conftest import wait_for_peers
 
 FAULT_TIMEOUT_S = 5.0

@@ -6,11 +6,11 @@ from pathlib import Path
 
 import pytest
 
-import ecu.transport
-from ecu.transport import UnixSocketBus
+import can_transport
+from can_transport import UnixSocketBus
 from tests.transport.conftest import wait_for_peers
 
-TRANSPORT_DIR = Path(ecu.transport.__file__).parent
+TRANSPORT_DIR = Path(can_transport.__file__).parent
 
 
 def test_socket_file_is_private(channel: str) -> None:

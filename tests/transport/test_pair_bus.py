@@ -9,7 +9,7 @@ import time
 import can
 import pytest
 
-from ecu.transport import PairSocketBus
+from can_transport import PairSocketBus
 
 
 def _frame(i: int) -> can.Message:
@@ -83,7 +83,7 @@ def test_a_third_participant_is_refused(channel: str, caplog) -> None:
         _wait_peer(a)
         third = PairSocketBus(channel, role="connect")
         try:
-            with caplog.at_level("WARNING", logger="ecu.transport.pair_bus"):
+            with caplog.at_level("WARNING", logger="can_transport.pair_bus"):
                 a.send(_frame(1))  # the listener takes (and refuses) waiting connections here
             assert any("third participant" in r.getMessage() for r in caplog.records)
             with pytest.raises(can.CanOperationError, match="without BYE"):

@@ -6,7 +6,7 @@ import time
 import can
 import pytest
 
-from ecu.transport import UnixSocketBus
+from can_transport import UnixSocketBus
 from tests.transport.conftest import wait_for_peers
 
 

@@ -4,7 +4,7 @@ import can
 import pytest
 from hypothesis import given, strategies as st
 
-from ecu.transport import wire
+from can_transport import wire
 
 
 @given(ext=st.booleans(), ident=st.integers(0, 0x1FFFFFFF), data=st.binary(max_size=8),

@@ -27,8 +27,8 @@ from pathlib import Path
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
 
-from .errors import FmiStepError, MappingError, PlantError
-from .scenario_config import PlantConfig, SignalMap
+from ..errors import FmiStepError, MappingError, PlantError
+from ..scenarios.config import PlantConfig, SignalMap
 
 log = logging.getLogger(__name__)
 

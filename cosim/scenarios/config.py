@@ -2,7 +2,7 @@
 
 Every field carries its unit in its name and its allowed range in
 ``metadata["range"]`` (closed interval) or ``metadata["choices"]``; the loader
-(:mod:`cosim.scenario_loader`) enforces both and rejects unknown keys.
+(:mod:`cosim.scenarios.loader`) enforces both and rejects unknown keys.
 """
 
 from __future__ import annotations

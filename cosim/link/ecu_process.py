@@ -22,7 +22,7 @@ from pathlib import Path
 
 from ecu import EcuConfig
 
-from .toml_writer import dumps
+from ..scenarios.toml_writer import dumps
 
 log = logging.getLogger(__name__)
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from can_dbc import signal_layout
 
-from .scenario_config import ECU_CYCLE_S, RadarConfig
+from ..scenarios.config import ECU_CYCLE_S, RadarConfig
 
 DBC_RANGE_MAX_M = signal_layout("ObjectTrack", "ObjectRange").maximum
 DBC_RATE_MAX_MPS = signal_layout("ObjectTrack", "ObjectRangeRate").maximum

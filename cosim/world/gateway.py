@@ -46,8 +46,8 @@ from can_dbc import LAYOUTS, CounterError, FrameError, Receiver
 from ecu.core import Mode
 
 from .driver_models import Pedals
-from .run_record import RunEvent
-from .scenario_config import GatewayConfig
+from ..results.run_record import RunEvent
+from ..scenarios.config import GatewayConfig
 
 log = logging.getLogger(__name__)
 

@@ -6,7 +6,7 @@
   virtual bus, stepped by the master (:class:`InProcessLink`);
 * ``process``: the master opens the bus first (``crd_pair`` in lock-step:
   point to point, it listens; ``crd_unix`` in real time: it hosts the hub),
-  spawns ``crd ecu`` (:mod:`cosim.ecu_process`), waits up to
+  spawns ``crd ecu`` (:mod:`cosim.link.ecu_process`), waits up to
   ``join_timeout_s`` for it to join, and stops it by PID at the end;
 * ``attach``: an ECU already running on ``interface``/``channel``; the
   master waits up to ``join_timeout_s`` for it.
@@ -50,8 +50,8 @@ from can_dbc import LAYOUTS, CounterSequence, encode
 from ecu import EcuConfig, EcuNode, Percentiles
 
 from .ecu_process import EcuProcess
-from .errors import CosimError
-from .run_record import RunEvent
+from ..errors import CosimError
+from ..results.run_record import RunEvent
 
 log = logging.getLogger(__name__)
 

@@ -11,7 +11,7 @@ connection is closed at once and a warning logged): use ``crd_unix`` for more.
 The channel is a socket path, as for ``crd_unix``. The first participant
 listens on it (mode 0600, a lock file ``<channel>.lock`` makes concurrent
 starters agree), the second connects. The wire format is ``crd_unix``'s
-(:mod:`ecu.transport.wire`).
+(:mod:`can_transport.wire`).
 
 Waiting: ``recv`` first polls the socket without blocking for up to
 ``spin_s`` (default 2 ms), then blocks. In lock-step the peer answers within
@@ -37,9 +37,9 @@ from typing import Any, Literal
 
 import can
 
-from ecu.transport import wire
-from ecu.transport.hub import SOCKET_BUFFER_BYTES
-from ecu.transport.socket_path import check_path, connect_or_none
+from can_transport import wire
+from can_transport.hub import SOCKET_BUFFER_BYTES
+from can_transport.socket_path import check_path, connect_or_none
 
 LOG = logging.getLogger(__name__)
 

@@ -12,13 +12,13 @@ import logging
 from pathlib import Path
 from typing import Callable, Sequence
 
-from .ecu_link import EcuOptions
-from .errors import PlantError
+from ..link.ecu_link import EcuOptions
+from ..errors import PlantError
 from .master import Progress, ecu_config, run_scenario
-from .plots import speed_profiles, timeline
-from .results_writer import provenance, write_metrics, write_resolved_config, write_run
-from .run_record import RunRecord
-from .scenario_config import Scenario
+from ..results.plots import speed_profiles, timeline
+from ..results.writer import provenance, write_metrics, write_resolved_config, write_run
+from ..results.run_record import RunRecord
+from ..scenarios.config import Scenario
 
 log = logging.getLogger(__name__)
 
@@ -63,7 +63,7 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
                    ecu: EcuOptions | None = None) -> list[RunRecord]:
     """Run each strategy; with ``out_dir``, write metrics, logs, time series, config and plots.
 
-    ``ecu`` says where the ECU runs (default: in process); see :mod:`cosim.ecu_link`.
+    ``ecu`` says where the ECU runs (default: in process); see :mod:`cosim.link.ecu_link`.
     """
     fmu_path = resolve_fmu(scenario)
     for strategy in strategies:  # fail fast on a bad [ecu] before any run

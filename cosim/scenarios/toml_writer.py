@@ -1,6 +1,6 @@
 """A small TOML writer for resolved scenarios (tomllib only reads).
 
-Handles what a :class:`~cosim.scenario_config.Scenario` holds: strings,
+Handles what a :class:`~cosim.scenarios.config.Scenario` holds: strings,
 booleans, integers, floats (``repr``, so they read back bit-identical),
 lists of numbers or strings, nested tables. ``None`` values are omitted.
 """

@@ -1,6 +1,6 @@
-"""A :class:`~cosim.scenario_config.Scenario` back to a plain mapping / TOML text.
+"""A :class:`~cosim.scenarios.config.Scenario` back to a plain mapping / TOML text.
 
-The resolved file reads back through :func:`cosim.scenario_loader.scenario_from_dict`
+The resolved file reads back through :func:`cosim.scenarios.loader.scenario_from_dict`
 to an equal scenario, so a run can be repeated exactly.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
-from .scenario_config import Scenario, SignalMap
+from .config import Scenario, SignalMap
 from .toml_writer import dumps
 
 

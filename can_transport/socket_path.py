@@ -8,7 +8,7 @@ import socket
 
 import can
 
-from ecu.transport.hub import SOCKET_BUFFER_BYTES
+from can_transport.hub import SOCKET_BUFFER_BYTES
 
 MAX_PATH_BYTES = 107  # sizeof(sockaddr_un.sun_path) - 1 on Linux
 _NOBODY_LISTENS = (errno.ENOENT, errno.ECONNREFUSED)

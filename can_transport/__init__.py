@@ -4,7 +4,7 @@ Registered with python-can as interfaces ``crd_unix`` (any number of
 participants, through a hub) and ``crd_pair`` (exactly two, point to point, for
 lock-step round trips): ``can.Bus(interface="crd_unix", channel="/tmp/crd-can0.sock")``.
 See README.md.
-Names are imported lazily so that ``python -m ecu.transport.hub`` runs cleanly.
+Names are imported lazily so that ``python -m can_transport.hub`` runs cleanly.
 """
 
 from __future__ import annotations
@@ -14,11 +14,11 @@ from typing import Any
 
 __all__ = ["Hub", "PairSocketBus", "UnixSocketBus"]
 
-_WHERE = {"Hub": "ecu.transport.hub", "PairSocketBus": "ecu.transport.pair_bus",
-          "UnixSocketBus": "ecu.transport.unix_bus"}
+_WHERE = {"Hub": "can_transport.hub", "PairSocketBus": "can_transport.pair_bus",
+          "UnixSocketBus": "can_transport.unix_bus"}
 
 
 def __getattr__(name: str) -> Any:
     if name not in _WHERE:
-        raise AttributeError(f"module 'ecu.transport' has no attribute {name!r}")
+        raise AttributeError(f"module 'can_transport' has no attribute {name!r}")
     return getattr(importlib.import_module(_WHERE[name]), name)

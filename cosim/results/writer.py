@@ -23,9 +23,9 @@ from typing import Iterable
 import can
 
 from .run_record import TIMESERIES_COLUMNS, RunRecord
-from .scenario_config import Scenario
-from .scenario_resolve import scenario_to_dict
-from .toml_writer import dumps
+from ..scenarios.config import Scenario
+from ..scenarios.resolve import scenario_to_dict
+from ..scenarios.toml_writer import dumps
 
 
 def package_version() -> str:

@@ -15,7 +15,7 @@ Hub lifecycle (``hub=``):
   or this process dies, and every other participant then gets a bus error:
   like unplugging the harness. Open the longest-lived participant first.
 - ``"connect"``: only connect; raise ``can.CanInitializationError`` if no hub
-  runs (use with ``python -m ecu.transport.hub PATH``).
+  runs (use with ``python -m can_transport.hub PATH``).
 
 Errors are python-can's: a hub that dies makes every later ``send``/``recv``
 raise ``can.CanOperationError`` (after the frames already received); a peer
@@ -44,9 +44,9 @@ from typing import Any, Literal
 
 import can
 
-from ecu.transport import wire
-from ecu.transport.hub import Hub
-from ecu.transport.socket_path import check_path, connect_or_none
+from can_transport import wire
+from can_transport.hub import Hub
+from can_transport.socket_path import check_path, connect_or_none
 
 LOG = logging.getLogger(__name__)
 
@@ -262,7 +262,7 @@ def _open_channel(path: str, hub_mode: str) -> tuple[socket.socket, Hub | None]:
         return sock, None
     if hub_mode == "connect":
         raise can.CanInitializationError(
-            f"expected a hub listening on {path}, found none (start one: python -m ecu.transport.hub {path})")
+            f"expected a hub listening on {path}, found none (start one: python -m can_transport.hub {path})")
     lock_fd = os.open(path + ".lock", os.O_CREAT | os.O_RDWR, 0o600)
     try:
         fcntl.flock(lock_fd, fcntl.LOCK_EX)

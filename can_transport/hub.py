@@ -16,7 +16,7 @@ Guarantees:
 - When the hub stops (or its process dies) every participant reads end-of-file
   and its bus raises ``can.CanOperationError``.
 
-Run standalone with ``python -m ecu.transport.hub PATH`` (stops on SIGINT/SIGTERM).
+Run standalone with ``python -m can_transport.hub PATH`` (stops on SIGINT/SIGTERM).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ import socket
 import threading
 from dataclasses import dataclass, field
 
-from ecu.transport import wire
+from can_transport import wire
 
 LOG = logging.getLogger(__name__)
 
@@ -214,11 +214,11 @@ class Hub:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m ecu.transport.hub PATH``: run a standalone hub until SIGINT/SIGTERM."""
+    """``python -m can_transport.hub PATH``: run a standalone hub until SIGINT/SIGTERM."""
     import argparse
     import signal
 
-    parser = argparse.ArgumentParser(prog="python -m ecu.transport.hub", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m can_transport.hub", description=__doc__.splitlines()[0])
     parser.add_argument("path", help="socket path, e.g. /tmp/crd-can0.sock (must not be in use)")
     parser.add_argument("-v", "--verbose", action="store_true", help="log joins and leaves")
     args = parser.parse_args(argv)

@@ -12,7 +12,7 @@ from typing import Callable
 
 import numpy as np
 
-from .scenario_config import DriverConfig
+from ..scenarios.config import DriverConfig
 
 
 @dataclass(frozen=True, slots=True)

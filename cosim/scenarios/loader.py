@@ -1,4 +1,4 @@
-"""Scenario TOML → :class:`~cosim.scenario_config.Scenario`, strictly.
+"""Scenario TOML → :class:`~cosim.scenarios.config.Scenario`, strictly.
 
 Unknown keys raise :class:`~cosim.errors.ConfigError` naming the key path
 (``plant.inputs.throtle``) and, for a near miss, the closest valid name
@@ -18,8 +18,8 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Mapping
 
-from .errors import ConfigError
-from .scenario_config import (
+from ..errors import ConfigError
+from .config import (
     BUILTIN_INPUTS,
     BUILTIN_OUTPUTS,
     INPUT_ROLES,

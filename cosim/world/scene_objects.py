@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .scenario_config import ObjectConfig
+from ..scenarios.config import ObjectConfig
 
 
 @dataclass(frozen=True, slots=True)

@@ -7,7 +7,7 @@ boundary, in this order:
 1. read the plant outputs; the driver model makes the pedals;
 2. send ``DriverInput`` and ``WheelSpeeds`` (every cycle) and ``ObjectTrack``
    (every 5th cycle), each with its own E2E counter, to the ECU through the
-   link chosen by :class:`cosim.ecu_link.EcuOptions`: by default an
+   link chosen by :class:`cosim.link.ecu_link.EcuOptions`: by default an
    in-process python-can virtual bus with a channel unique to the run, or a
    bus shared with a ``crd ecu`` process (then followed by ``SimClock``);
 3. the ECU runs one cycle (``EcuNode.step(t)`` in process, or the ECU
@@ -49,15 +49,15 @@ from can_dbc import CounterSequence, encode, signal_layout
 from ecu import EcuConfig
 from ecu.bus_port import KMH_PER_MPS
 
-from .driver_models import make_driver
-from .ecu_link import EcuOptions, open_link
-from .errors import FmiStepError
-from .gateway import Actuation, Gateway
-from .plant_fmu import FmuPlant, PlantSample
-from .radar_model import RadarModel
-from .run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
-from .scenario_config import ECU_CYCLE_S, OBJECT_TRACK_PERIOD_S, Scenario
-from .scene_objects import LaneObject
+from ..world.driver_models import make_driver
+from ..link.ecu_link import EcuOptions, open_link
+from ..errors import FmiStepError
+from ..world.gateway import Actuation, Gateway
+from ..world.plant_fmu import FmuPlant, PlantSample
+from ..world.radar_model import RadarModel
+from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
+from ..scenarios.config import ECU_CYCLE_S, OBJECT_TRACK_PERIOD_S, Scenario
+from ..world.scene_objects import LaneObject
 
 log = logging.getLogger(__name__)
 
