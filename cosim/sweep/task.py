@@ -1,0 +1,90 @@
+"""What a Dask worker runs: one sweep run -> one result row (a plain dict).
+
+The plant FMU reaches the worker as bytes (no shared file system is assumed);
+:func:`cached_fmu` writes it once per worker host into the local temporary
+directory under its sha256 and reuses it for every later run. :func:`run_one`
+never raises for a failed run: a scenario value the loader, the ECU or the FMU
+refuses, an FMI error mid-run, or any other exception becomes a row with
+``status = "failed"`` and the error text, so the sweep goes on. (A native
+crash that kills the worker is handled by the runner: Dask retries the task
+once on another worker, then it is recorded as failed.)
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+from ..errors import PlantError
+from ..loop.master import run_scenario
+from ..results.run_record import RunRecord
+from ..scenarios.loader import scenario_from_dict
+from ..world.plant_fmu import file_sha256
+from .plan import RunSpec
+
+#: metrics.json fields copied into each row (RunMetrics, without the strategy, which is its own column)
+METRIC_COLUMNS = ("collided", "impact_speed_mps", "min_gap_m", "final_gap_m", "contingency_invocations",
+                  "max_speed_mps", "sim_time_s", "wall_time_s")
+STATUS_OK, STATUS_FAILED = "ok", "failed"
+
+_FMU_PATHS: dict[str, Path] = {}  # sha256 -> local file, per worker process
+
+
+def cached_fmu(sha256: str, data: bytes, cache_dir: Path | None = None) -> Path:
+    """The local copy of the shipped FMU, written once (atomically) and checked against its hash."""
+    path = _FMU_PATHS.get(sha256)
+    if path is not None and path.is_file():
+        return path
+    cache_dir = cache_dir or Path(tempfile.gettempdir()) / "crd-sweep-fmu"
+    cache_dir.mkdir(parents=True, exist_ok=True)
+    path = cache_dir / f"{sha256}.fmu"
+    if not path.is_file() or file_sha256(path) != sha256:
+        if hashlib.sha256(data).hexdigest() != sha256:
+            raise PlantError(f"shipped FMU bytes do not match their sha256 {sha256}")
+        tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
+        tmp.write_bytes(data)
+        os.replace(tmp, path)
+    _FMU_PATHS[sha256] = path
+    return path
+
+
+def base_row(run: RunSpec) -> dict[str, Any]:
+    """The columns a row has whatever happens: identity, seed and axis values."""
+    row: dict[str, Any] = {"run": run.index, "run_key": run.key, "seed": run.seed, "replicate": run.point.replicate}
+    row.update(run.point.values)
+    row["strategy"] = run.scenario.get("ecu", {}).get("strategy", "tightening")
+    return row
+
+
+def failed_row(run: RunSpec, error: str, task_wall_s: float = 0.0) -> dict[str, Any]:
+    row = base_row(run)
+    row.update(dict.fromkeys(METRIC_COLUMNS), status=STATUS_FAILED, error=error, task_wall_s=task_wall_s)
+    return row
+
+
+def _row(run: RunSpec, record: RunRecord) -> dict[str, Any]:
+    row = base_row(run)
+    row["strategy"] = record.metrics.strategy
+    row.update({k: getattr(record.metrics, k) for k in METRIC_COLUMNS})
+    row["status"] = STATUS_FAILED if record.error else STATUS_OK
+    row["error"] = record.error
+    return row
+
+
+def run_one(run: RunSpec, fmu_bytes: bytes, fmu_sha256: str, keep_timeseries: bool = False) -> dict[str, Any]:
+    """Run one sweep run on this worker; returns its row (and its time series when asked)."""
+    t0 = time.perf_counter()
+    try:
+        fmu_path = cached_fmu(fmu_sha256, fmu_bytes)
+        record = run_scenario(scenario_from_dict(run.scenario), fmu_path)
+    except Exception as exc:  # noqa: BLE001 - any failure of one run is recorded, the sweep goes on
+        return failed_row(run, f"{type(exc).__name__}: {exc}", time.perf_counter() - t0)
+    row = _row(run, record)
+    row["task_wall_s"] = time.perf_counter() - t0
+    if keep_timeseries:
+        row["_timeseries"] = record.rows
+    return row
