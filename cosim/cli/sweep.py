@@ -25,13 +25,15 @@ from ..errors import ConfigError
 class ProgressBar:
     """A tqdm bar on stderr: runs done, rate, ETA, failures so far; the dashboard address above it."""
 
-    def __init__(self) -> None:
+    def __init__(self, header: str) -> None:
+        self._header = header
         self._bar = None
         self._failed = 0
 
     def start(self, total: int, already: int, dashboard: str | None, note: str) -> None:
         from tqdm import tqdm
 
+        print(self._header, file=sys.stderr)
         print(note, file=sys.stderr)
         if already:
             print(f"resuming: {already} of {total} runs already in the table", file=sys.stderr)
@@ -113,8 +115,8 @@ def _do_sweep(args: argparse.Namespace) -> int:
     spec = load_sweep(args.target[0])
     out_dir = args.out or Path("out/sweep") / spec.name
     where = args.scheduler or f"{args.workers or 'one per core'} local worker(s) on 127.0.0.1"
-    print(f"crd sweep {spec.name} ({spec.mode}) on {where} -> {out_dir}", file=sys.stderr)
+    header = f"crd sweep {spec.name} ({spec.mode}) on {where} -> {out_dir}"
     plan, outcome = run_sweep(spec, out_dir, ClusterOptions(args.workers, args.scheduler), args.resume,
-                              args.keep_timeseries, ProgressBar())
+                              args.keep_timeseries, ProgressBar(header))
     _summary(plan, outcome, out_dir)
     return 0

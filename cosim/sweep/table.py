@@ -70,7 +70,7 @@ def read_results(path: Path) -> tuple[pa.Table, dict[str, Any]]:
 class ResultsTable:
     """Rows collected so far, flushed to ``out_dir/results.parquet`` at most every ``flush_s`` seconds."""
 
-    def __init__(self, out_dir: Path, schema: pa.Schema, flush_s: float = 2.0) -> None:
+    def __init__(self, out_dir: Path, schema: pa.Schema, flush_s: float = 1.0) -> None:
         self.path = Path(out_dir) / RESULTS_NAME
         self.schema = schema
         self.flush_s = flush_s
