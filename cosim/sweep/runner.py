@@ -5,19 +5,25 @@ each, with the scheduler, the workers and the dashboard bound to 127.0.0.1
 (ports chosen by the OS). ``scheduler`` attaches to an existing scheduler
 instead (``tcp://host:port``), which is how a sweep runs on many machines.
 
-The client reads the plant FMU once and broadcasts its bytes to the workers
-(:meth:`distributed.Client.scatter`); every task gets them and the worker
-caches the file by hash (:func:`cosim.sweep.task.cached_fmu`). Each run is one
+The client reads the plant FMU once and registers a worker plugin carrying its
+bytes (:class:`cosim.sweep.task.FmuShipper`): every worker, including one that
+restarts, caches the file by hash before it takes a run, and the runs name it
+by hash. No run depends on data held by another worker, so none is lost with a
+dead worker and the scheduler places runs on idle workers only. Each run is one
 task returning one row. A task whose worker dies is rescheduled once
 (``distributed.scheduler.allowed-failures = 1`` on the local scheduler; an
 existing scheduler keeps its own setting), then Dask raises ``KilledWorker``
-and the run is recorded as failed. Rows are handed to the
+and the run is recorded as failed. Dask counts a death against every task
+*assigned* to the dying worker, so the client keeps only as many runs in
+flight as the cluster has threads: each worker holds the one run it is
+running, and a crash is counted against that run alone. Rows are handed to the
 :class:`~cosim.sweep.table.ResultsTable` as they complete.
 """
 
 from __future__ import annotations
 
 import importlib.util
+import itertools
 import logging
 import os
 import time
@@ -30,12 +36,13 @@ from distributed import Client, LocalCluster, as_completed
 
 from .plan import RunSpec, SweepPlan
 from .table import ResultsTable, write_timeseries
-from .task import failed_row, run_one
+from .task import FmuShipper, failed_row, run_one
 
 log = logging.getLogger(__name__)
 
 LOCALHOST = "127.0.0.1"
 RETRIES_AFTER_WORKER_DEATH = 1
+_LOCAL_SCHEDULER_CONFIG = {"distributed.scheduler.allowed-failures": RETRIES_AFTER_WORKER_DEATH}
 
 
 @dataclass(frozen=True)
@@ -69,7 +76,7 @@ class SweepProgress(Protocol):
     def close(self) -> None: ...
 
 
-Task = Callable[[RunSpec, bytes, str, bool], dict]
+Task = Callable[[RunSpec, str, bool], dict]
 
 
 def dashboard_available() -> bool:
@@ -83,7 +90,7 @@ def open_client(opts: ClusterOptions) -> tuple[Client, LocalCluster | None]:
         return Client(opts.scheduler, set_as_default=False), None
     workers = opts.workers or os.cpu_count() or 1
     dashboard = f"{LOCALHOST}:0" if opts.dashboard and dashboard_available() else None
-    with dask.config.set({"distributed.scheduler.allowed-failures": RETRIES_AFTER_WORKER_DEATH}):
+    with dask.config.set(_LOCAL_SCHEDULER_CONFIG):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host=LOCALHOST,
                                scheduler_port=0, dashboard_address=dashboard, silence_logs=logging.ERROR)
     try:
@@ -103,15 +110,27 @@ def _dashboard(client: Client) -> tuple[str | None, str]:
     return link, f"Dask dashboard: {link}" if link else "Dask dashboard unavailable"
 
 
-def _collect(client: Client, futures: dict, table: ResultsTable, out_dir: Path,
-             progress: SweepProgress | None, outcome: SweepOutcome) -> None:
-    for future in as_completed(list(futures), loop=client.loop):
-        run = futures.pop(future)
+def _threads(client: Client) -> int:
+    return max(1, sum(w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values()))
+
+
+def _collect(client: Client, submit: Callable[[RunSpec], Any], todo: list[RunSpec], table: ResultsTable,
+             out_dir: Path, progress: SweepProgress | None, outcome: SweepOutcome) -> None:
+    """Keep one run in flight per cluster thread; hand each row to the table as it arrives."""
+    pending = iter(todo)
+    in_flight = {submit(run): run for run in itertools.islice(pending, _threads(client))}
+    completed = as_completed(list(in_flight), loop=client.loop)
+    for future in completed:
+        run = in_flight.pop(future)
         try:
             row = future.result()
         except Exception as exc:  # noqa: BLE001 - KilledWorker after the retry, or a lost task
             row = failed_row(run, f"{type(exc).__name__}: {exc}")
         future.release()
+        for nxt in itertools.islice(pending, max(1, _threads(client) - len(in_flight))):
+            new = submit(nxt)
+            in_flight[new] = nxt
+            completed.add(new)
         series = row.pop("_timeseries", None)
         if series is not None:
             write_timeseries(out_dir, row["run_key"], series)
@@ -138,10 +157,13 @@ def run_plan(plan: SweepPlan, table: ResultsTable, out_dir: Path, opts: ClusterO
         if progress is not None:
             progress.start(len(plan.runs), outcome.skipped, outcome.dashboard, note)
         if todo:
-            shipped = client.scatter(fmu_bytes, broadcast=True, hash=False)
-            futures = {client.submit(task, run, shipped, fmu_sha, keep_timeseries, key=f"crd-run-{run.key}",
-                                     pure=False): run for run in todo}
-            _collect(client, futures, table, out_dir, progress, outcome)
+            client.register_plugin(FmuShipper(fmu_bytes, fmu_sha))
+
+            def submit(run: RunSpec):
+                return client.submit(task, run, fmu_sha, keep_timeseries, key=f"crd-run-{run.key}",
+                                     pure=False)
+
+            _collect(client, submit, todo, table, out_dir, progress, outcome)
     finally:
         table.close()
         if progress is not None:

@@ -1,8 +1,11 @@
 """What a Dask worker runs: one sweep run -> one result row (a plain dict).
 
-The plant FMU reaches the worker as bytes (no shared file system is assumed);
-:func:`cached_fmu` writes it once per worker host into the local temporary
-directory under its sha256 and reuses it for every later run. :func:`run_one`
+The plant FMU reaches each worker as bytes, once (no shared file system is
+assumed): :class:`FmuShipper` is a Dask worker plugin holding the bytes, whose
+``setup`` runs on every worker of the cluster, including workers that join or
+restart later, and writes the file with :func:`cached_fmu` into the local
+temporary directory under its sha256. Runs then name the FMU by hash only, so
+no task depends on data held by another worker. :func:`run_one`
 never raises for a failed run: a scenario value the loader, the ECU or the FMU
 refuses, an FMI error mid-run, or any other exception becomes a row with
 ``status = "failed"`` and the error text, so the sweep goes on. (A native
@@ -18,6 +21,8 @@ import tempfile
 import time
 from pathlib import Path
 from typing import Any
+
+from distributed.diagnostics.plugin import WorkerPlugin
 
 from ..errors import PlantError
 from ..loop.master import run_scenario
@@ -52,6 +57,26 @@ def cached_fmu(sha256: str, data: bytes, cache_dir: Path | None = None) -> Path:
     return path
 
 
+def local_fmu(sha256: str) -> Path:
+    """The FMU this worker process cached under ``sha256`` (by :class:`FmuShipper`)."""
+    path = _FMU_PATHS.get(sha256)
+    if path is None or not path.is_file():
+        raise PlantError(f"plant FMU {sha256[:16]} was not shipped to this worker")
+    return path
+
+
+class FmuShipper(WorkerPlugin):
+    """Carries the FMU's bytes to every worker (present and future) and caches them there by hash."""
+
+    def __init__(self, data: bytes, sha256: str) -> None:
+        self.data = data
+        self.sha256 = sha256
+        self.name = f"crd-fmu-{sha256[:16]}"
+
+    def setup(self, worker) -> None:
+        cached_fmu(self.sha256, self.data)
+
+
 def base_row(run: RunSpec) -> dict[str, Any]:
     """The columns a row has whatever happens: identity, seed and axis values."""
     row: dict[str, Any] = {"run": run.index, "run_key": run.key, "seed": run.seed, "replicate": run.point.replicate}
@@ -75,11 +100,11 @@ def _row(run: RunSpec, record: RunRecord) -> dict[str, Any]:
     return row
 
 
-def run_one(run: RunSpec, fmu_bytes: bytes, fmu_sha256: str, keep_timeseries: bool = False) -> dict[str, Any]:
+def run_one(run: RunSpec, fmu_sha256: str, keep_timeseries: bool = False) -> dict[str, Any]:
     """Run one sweep run on this worker; returns its row (and its time series when asked)."""
     t0 = time.perf_counter()
     try:
-        fmu_path = cached_fmu(fmu_sha256, fmu_bytes)
+        fmu_path = local_fmu(fmu_sha256)
         record = run_scenario(scenario_from_dict(run.scenario), fmu_path)
     except Exception as exc:  # noqa: BLE001 - any failure of one run is recorded, the sweep goes on
         return failed_row(run, f"{type(exc).__name__}: {exc}", time.perf_counter() - t0)
