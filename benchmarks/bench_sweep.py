@@ -1,6 +1,6 @@
 """Sweep figures (issue 12, "Figures").
 
-Run: ``python benchmarks/bench_sweep.py [--sweep friction_lag_latency] [--subset 48] [--repeat 3] [--skip-full]``.
+Run: ``python benchmarks/bench_sweep.py [--sweep friction_lag_latency] [--subset 48] [--repeat 3] [--skip-full] [--out DIR]``.
 
 * the whole sweep (default ``friction_lag_latency``, 1008 paper-length runs) on a
   local cluster of 2 worker processes (goal: <= 120 s on the 2-core machine);
@@ -120,6 +120,7 @@ def main() -> None:
     ap.add_argument("--subset", type=int, default=48, help="runs in the 1-vs-2-worker comparison")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--skip-full", action="store_true", help="skip the whole sweep (scaling and overhead only)")
+    ap.add_argument("--out", type=Path, help="keep the whole sweep's results.parquet here (then: crd sweep report DIR)")
     args = ap.parse_args()
     plan = make_plan(load_sweep(args.sweep))
     print(f"{plan.spec.name}: {len(plan.runs)} runs; machine: {psutil.cpu_count()} cores, "
@@ -138,7 +139,7 @@ def main() -> None:
               f"2 workers {r2:.2f} runs/s, ratio {r2 / r1:.2f} (goal >= 1.85); "
               f"all: 1w {[round(x, 2) for x in rates[1]]}, 2w {[round(x, 2) for x in rates[2]]}")
         if not args.skip_full:
-            elapsed, rows, samples = timed_run(plan, 2, Path(tmp) / "full", sample_memory=True)
+            elapsed, rows, samples = timed_run(plan, 2, args.out or Path(tmp) / "full", sample_memory=True)
             report_full(plan.spec.name, elapsed, rows, samples, 2)
     print(f"load average after: {' '.join(f'{x:.1f}' for x in psutil.getloadavg())}")
 

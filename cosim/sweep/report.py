@@ -109,7 +109,9 @@ def write_report(out_dir: Path, pairs: Sequence[tuple[str, str]] | None = None) 
     out_dir = Path(out_dir)
     table, meta = read_results(out_dir / RESULTS_NAME)
     rows = table.to_pylist()
-    maps = draw_maps(out_dir / "maps", rows, [a for a in meta["axes"] if a != meta.get("strategy_axis")], pairs)
+    axes = [a for a in meta["axes"] if a != meta.get("strategy_axis")]
+    # one value at a time leaves a map's off-base cells empty: maps only when asked for
+    maps = draw_maps(out_dir / "maps", rows, axes, pairs) if pairs or meta["mode"] != "one_at_a_time" else []
     lines = _header(rows, meta, out_dir) + ["## Rates per strategy", ""] + rates_table(rows) + [""]
     outcomes = outcomes_table(rows, meta)
     if outcomes:

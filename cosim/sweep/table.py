@@ -48,7 +48,7 @@ def _arrow_type(value: Any) -> pa.DataType:
 def results_schema(axis_values: dict[str, Any], meta: dict[str, Any]) -> pa.Schema:
     """The table's schema; ``axis_values``: one example value per axis path (sets its column type)."""
     fields = [("run", pa.int64()), ("run_key", pa.string()), ("seed", pa.int64()), ("replicate", pa.int64())]
-    fields += [(path, _arrow_type(v)) for path, v in axis_values.items() if path != "strategy"]
+    fields += [(path, _arrow_type(v)) for path, v in axis_values.items()]
     fields += [("strategy", pa.string())]
     fields += [(m, _METRIC_TYPES.get(m, pa.float64())) for m in METRIC_COLUMNS]
     fields += [("status", pa.string()), ("error", pa.string()), ("task_wall_s", pa.float64())]
