@@ -210,3 +210,15 @@ def test_cluster_is_bound_to_loopback_and_a_scheduler_can_be_attached(tmp_path) 
     finally:
         client.close()
         cluster.close()
+
+
+def test_report_is_redrawn_from_the_table_alone(small, tmp_path, capsys) -> None:
+    from cosim.cli.main import main
+
+    _, out = small
+    copy = tmp_path / "copy"
+    copy.mkdir()
+    (copy / "results.parquet").write_bytes((out / "results.parquet").read_bytes())
+    assert main(["sweep", "report", str(copy), "--axes", "radar.latency_s", "plant.road_friction"]) == 0
+    assert (copy / "report.md").read_text().count("![") == 2  # the two metrics over the one pair asked for
+    assert (copy / "maps" / "mean_impact_speed_mps__radar.latency_s__plant.road_friction.png").is_file()

@@ -135,3 +135,9 @@ def test_bundled_sweeps_load_and_friction_lag_latency_has_1000_runs() -> None:
     assert n >= 1000
     assert tomllib.loads(bundled_sweeps()["paper_sensitivity"].read_text())["sweep"]["mode"] == "one_at_a_time"
     assert sweep_from_dict  # the loader is public
+
+
+def test_list_names_the_bundled_sweeps(capsys) -> None:
+    assert main(["sweep", "--list"]) == 0
+    out = capsys.readouterr().out
+    assert "friction_lag_latency" in out and "paper_sensitivity" in out and "one_at_a_time" in out
