@@ -23,7 +23,7 @@ from .scoring import ncap_points  # noqa: E402
 
 CSV_COLUMNS = ("catalogue", "scoring", "cell", "group", "test_speed_kmh", "target_speed_kmh", "road_friction",
                "strategy", "phases", "collided", "impact_kmh", "max_impact_kmh", "colour", "score", "interventions",
-               "min_speed_after_intervention_mps", "min_gap_m", "end_reason", "passed", "verdict",
+               "min_speed_intervening_mps", "min_gap_m", "end_reason", "passed", "verdict",
                "impact_kmh_by_phase", "sim_time_s", "wall_time_s", "error")
 COLOURS = {"green": "#2e9e44", "yellow": "#f2d024", "orange": "#f28c28", "brown": "#8b5a2b", "red": "#d62728"}
 
@@ -99,7 +99,7 @@ def _fmt(r: Mapping[str, Any], scoring: str) -> str:
     if scoring == "false_positive":
         return f"{r['interventions']} int." + (" HIT" if r["collided"] else "")
     if scoring == "follow":
-        low = r["min_speed_after_intervention_mps"]
+        low = r["min_speed_intervening_mps"]
         return ("HIT " if r["collided"] else "") + ("-" if low is None else f"min {low:.1f} m/s")
     text = f"{r['impact_kmh']:.1f}" if r["collided"] else "0"
     if scoring == "ncap":

@@ -45,11 +45,20 @@ def outcome_of(record) -> Outcome:
     """Summarise a run record (see :class:`Outcome`)."""
     m = record.metrics
     modes, speeds = record.column("ecu_mode"), record.column("speed_mps")
-    first = next((i for i, mode in enumerate(modes) if mode in RESTRICTING_MODES), None)
-    low = min(speeds[first:]) if first is not None else None
+    low = _low_speed_while_intervening(modes, speeds)
     impact = (m.impact_speed_mps or 0.0) * KMH if m.collided else 0.0
     return Outcome(m.collided, impact, interventions(modes), low, m.min_gap_m, m.end_reason,
                    m.sim_time_s, m.wall_time_s, record.error)
+
+
+def _low_speed_while_intervening(modes: list, speeds: list, after_cycles: int = 100) -> float | None:
+    """Lowest speed (m/s) from the first intervention until ``after_cycles`` (1 s) after the last.
+
+    The second bound leaves out what the driver does later (the Euro NCAP robot has lifted off
+    the accelerator for good and the car coasts down); brake pressure has decayed within 0.5 s.
+    """
+    hits = [i for i, mode in enumerate(modes) if mode in RESTRICTING_MODES]
+    return min(speeds[hits[0]:hits[-1] + after_cycles + 1]) if hits else None
 
 
 def run_job(job: Job) -> Outcome:

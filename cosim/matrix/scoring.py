@@ -14,7 +14,8 @@
   start-up; goal 0 and no contact.
 * ``follow`` (ours): behind a moving target the ECU brakes to zero relative
   speed and must not bring the car to a standstill: pass iff no contact and
-  the minimum speed after the first intervention stays above 1 m/s.
+  the minimum speed from the first intervention until 1 s after the last
+  stays above 1 m/s (:func:`cosim.matrix.runner.outcome_of`).
 
 With several radar phases a cell is scored on its worst phase: the highest
 impact speed, the most interventions, the lowest speed.
@@ -41,7 +42,7 @@ class Outcome:
     collided: bool
     impact_kmh: float
     interventions: int
-    min_speed_after_intervention_mps: float | None
+    min_speed_intervening_mps: float | None
     min_gap_m: float | None
     end_reason: str | None
     sim_time_s: float
@@ -75,7 +76,7 @@ def ncap_colour(impact_kmh: float, collided: bool) -> tuple[str, float]:
 def worst(outcomes: Iterable[Outcome]) -> Outcome:
     """The worst phase: an error first, then contact at the highest speed, most interventions, lowest speed."""
     def badness(o: Outcome) -> tuple:
-        low = o.min_speed_after_intervention_mps
+        low = o.min_speed_intervening_mps
         return (o.error is not None, o.collided, o.impact_kmh, o.interventions, -(low if low is not None else 1e9))
     return max(outcomes, key=badness)
 
@@ -98,7 +99,7 @@ def score_cell(scoring: str, params: Mapping[str, Any], o: Outcome) -> dict[str,
     if scoring == "false_positive":
         ok = o.interventions == 0 and not o.collided
         return {"passed": ok, "verdict": "pass" if ok else f"FAIL ({o.interventions} interventions)"}
-    low = o.min_speed_after_intervention_mps
+    low = o.min_speed_intervening_mps
     ok = not o.collided and (low is None or low > FOLLOW_MIN_SPEED_MPS)
     return {"passed": ok, "verdict": "pass" if ok else "FAIL (contact or standstill)"}
 
