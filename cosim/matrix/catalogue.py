@@ -28,6 +28,7 @@ Scenario of a cell (times from t = 0, when the ego is at its test speed):
 from __future__ import annotations
 
 import dataclasses
+import math
 import tomllib
 from dataclasses import dataclass
 from importlib import resources
@@ -45,6 +46,8 @@ _SERIES_KEYS = {
     "lateral_end_m", "lateral_speed_mps", "lateral_at_gap_m", "road_friction", "max_impact_kmh",
     "require_no_contact", "extended", "duration_s", "end", "driver_release", "source", "note",
 }
+_BOOL_KEYS = {"require_no_contact", "extended", "driver_release"}
+_STR_KEYS = {"group", "target", "end", "source", "note"}
 _TOP_KEYS = {"catalogue", "sources", "targets", "scenario", "scoring", "series"}
 _ENDS = ("standstill", "matched_speed", "time")
 
@@ -171,11 +174,14 @@ def load_catalogue(spec: str | Path) -> Catalogue:
 
 
 def _need(table: Mapping[str, Any], key: str, where: str, kind: type | tuple) -> Any:
-    if key not in table:
-        raise ConfigError(f"{where}.{key}: missing")
-    if not isinstance(table[key], kind) or isinstance(table[key], bool) and kind is not bool:
-        raise ConfigError(f"{where}.{key}: expected {kind}, got {table[key]!r}")
-    return table[key]
+    """``table[key]``, which must exist and be of ``kind`` (a bool is not a number here)."""
+    path = f"{where}.{key}" if where else key
+    if not isinstance(table, Mapping) or key not in table:
+        raise ConfigError(f"{path}: missing")
+    value = table[key]
+    if not isinstance(value, kind) or (isinstance(value, bool) and kind is not bool):
+        raise ConfigError(f"{path}: expected {getattr(kind, '__name__', kind)}, got {value!r}")
+    return value
 
 
 def _check_source(table: Mapping[str, Any], sources: Mapping[str, str], where: str) -> None:
@@ -234,10 +240,25 @@ def _series(s: Mapping[str, Any], i: int, cat: str, targets: Mapping, sources: M
                     raise ConfigError(f"{where}.{key}: expected {len(speeds)} values (one per ego speed),"
                                       f" got {len(value)}")
                 value = value[j]
-            params[key] = value
+            params[key] = _checked(key, value, f"{where}.{key}")
         cell_id = f"{group}-{speed:g}"
         cells.append(Cell(cat, cell_id, group, params, dict(target), base))
     return cells
+
+
+def _checked(key: str, value: Any, where: str) -> Any:
+    """A cell value of the right type: true/false, a string, or a finite number (>= 0 except lateral_m)."""
+    if key in _BOOL_KEYS:
+        ok, expected = isinstance(value, bool), "true or false"
+    elif key in _STR_KEYS:
+        ok, expected = isinstance(value, str), "a string"
+    else:
+        number = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+        ok = number and (value >= 0.0 or key == "lateral_m")
+        expected = "a finite number" + ("" if key == "lateral_m" else " >= 0")
+    if not ok:
+        raise ConfigError(f"{where}: expected {expected}, got {value!r}")
+    return value
 
 
 def replace_params(cell: Cell, **changes: Any) -> Cell:

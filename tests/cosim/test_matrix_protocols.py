@@ -153,3 +153,12 @@ def test_low_speed_counts_while_the_ecu_intervenes_not_the_drivers_later_coastin
     assert low(modes, speeds, after_cycles=2) == 3.0
     assert low(modes, speeds, after_cycles=100) == 0.5
     assert low(["STANDBY"] * 3, [1.0, 0.0, 0.0]) is None
+
+
+def test_cell_values_are_type_checked(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text('[catalogue]\nscoring = "r152"\n[sources]\nx = "y"\n[targets.car]\nlength_m = 4.0\n'
+                    'width_m = 1.7\nsource = "x"\n[[series]]\ngroup = "g"\nego_speed_kmh = [10, -5]\n'
+                    'max_impact_kmh = 0\ntarget = "car"\nsource = "x"\n')
+    with pytest.raises(ConfigError, match=r"series\[0\].ego_speed_kmh: expected a finite number >= 0, got -5"):
+        load_catalogue(path)
