@@ -54,3 +54,15 @@ def test_tightening_no_false_positive_and_no_standstill_behind_moving_targets():
     assert [r["cell"] for r in fp if r["interventions"] or r["collided"]] == []
     follow = [r for r in rows if r["scoring"] == "follow"]
     assert all(not r["collided"] and r["min_speed_intervening_mps"] > 1.0 for r in follow), follow
+
+
+@pytest.mark.slow
+def test_tightening_meets_r152_and_ccrs_avoidance_at_three_radar_phases():
+    """Issue 11's figure: every R152 M1 cell and every CCRs cell <= 20 km/h, worst of 3 phases."""
+    import dataclasses
+    ncap = load_catalogue("ncap_ccr")
+    ccrs = dataclasses.replace(ncap, cells=tuple(c for c in ncap.cells if c.cell_id in ("CCRs-10", "CCRs-20")))
+    rows, _ = run_matrix([load_catalogue("r152_m1"), ccrs], ["tightening"], phases=3, workers=2)
+    assert len(rows) == 15 and all(r["phases"] == 3 for r in rows)
+    assert [r["cell"] for r in rows if not r["passed"]] == []
+    assert all(r["colour"] == "green" for r in rows if r["scoring"] == "ncap")
