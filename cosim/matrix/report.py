@@ -2,7 +2,8 @@
 
 One row per cell and strategy (the worst radar phase). Plots: relative impact
 speed against test speed, one line per strategy, one panel per group
-(``impact_<catalogue>.png``); the Euro NCAP colour bands as a grid of cells
+(``impact_<catalogue>.png``, not for false positives, which count
+interventions); the Euro NCAP colour bands as a grid of cells
 by strategy (``bands_<catalogue>.png``).
 """
 
@@ -41,7 +42,8 @@ def write_outputs(out: Path, catalogues: Sequence[Catalogue], rows: Sequence[Map
     figures = {}
     for cat in catalogues:
         cat_rows = [r for r in rows if r["catalogue"] == cat.name]
-        figures[cat.name] = [impact_plot(out / f"impact_{cat.name}.png", cat, cat_rows)]
+        figures[cat.name] = [] if cat.scoring == "false_positive" else \
+            [impact_plot(out / f"impact_{cat.name}.png", cat, cat_rows)]  # no impacts to plot there
         if cat.scoring == "ncap":
             figures[cat.name].append(band_grid(out / f"bands_{cat.name}.png", cat, cat_rows))
     path = out / "report.md"
