@@ -7,8 +7,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* PLANT_TOKEN, the GUID / instantiation token: written by fmu_plant/build.py next to the
+ * sources it compiles and ships in the FMU's sources/ folder. */
+#include "plant_token.h"
 #ifndef PLANT_TOKEN
-#error "PLANT_TOKEN (the instantiation token / GUID) must be defined by the build"
+#error "plant_token.h must define PLANT_TOKEN (the instantiation token / GUID)"
 #endif
 
 #define ANY_STATE (FW_INSTANTIATED | FW_INITIALIZATION | FW_STEP | FW_TERMINATED | FW_FAILED)
