@@ -66,3 +66,25 @@ def test_fmi2_declares_that_it_takes_any_step(fmus):
     assert md2.coSimulation.canHandleVariableCommunicationStepSize is True
     assert md3.coSimulation.canHandleVariableCommunicationStepSize is True
     assert float(md3.coSimulation.fixedInternalStepSize) == 0.001
+
+
+def test_a_step_resumes_inside_a_grid_cell_and_a_step_below_the_resolution_is_refused(fmu2):
+    from fmpy.fmi1 import FMICallException
+
+    from tests.fmu.plant_runner import initialise, open_plant
+
+    h = open_plant(fmu2, 2)
+    try:
+        initialise(h)
+        h.set(throttle=1.0)
+        h.slave.doStep(0.0, 0.0015)            # ends half-way through the second 1 ms cell
+        h.slave.doStep(0.0015, 0.0085)         # completes it, then whole steps to 10 ms
+        with pytest.raises(FMICallException):
+            h.slave.doStep(0.01, 1e-13)        # below the 1 ns time resolution
+        assert "below the 1e-09 s time resolution" in h.log_text()
+        v_split = h.get("v")[0]
+    finally:
+        h.slave.terminate()
+        h.slave.freeInstance()
+    whole = run_plant(fmu2, 2, 0.01, 0.01, lambda t: {"throttle": 1.0})
+    assert v_split == pytest.approx(whole["v"][-1], abs=1e-6) and v_split > 0.0
