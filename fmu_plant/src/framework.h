@@ -11,6 +11,12 @@
 #include <stdbool.h>
 #include "model.h"
 
+/* Only the FMI functions are exported; the plant's own symbols stay inside the library,
+ * whoever builds it (our cmake build also sets hidden visibility; fmpy's does not). */
+#if defined(__GNUC__)
+#pragma GCC visibility push(hidden)
+#endif
+
 typedef enum { FW_OK = 0, FW_WARNING = 1, FW_DISCARD = 2, FW_ERROR = 3, FW_FATAL = 4 } FwStatus;
 
 typedef enum {
@@ -89,5 +95,9 @@ FwStatus fw_set_bool(FwInstance *inst, unsigned vr, bool value);
 static inline FwStatus fw_worst(FwStatus a, FwStatus b) {
     return a > b ? a : b;
 }
+
+#if defined(__GNUC__)
+#pragma GCC visibility pop
+#endif
 
 #endif

@@ -7,6 +7,12 @@
 #include <stddef.h>
 #include "variables.h"
 
+/* Only the FMI functions are exported; the plant's own symbols stay inside the library,
+ * whoever builds it (our cmake build also sets hidden visibility; fmpy's does not). */
+#if defined(__GNUC__)
+#pragma GCC visibility push(hidden)
+#endif
+
 /* Fixed internal step, s: the grid t0 + n * h. doStep takes whole steps on this grid and,
  * where a communication point falls between two grid points, a shorter sub-step to it. */
 #define PLANT_STEP_S 1e-3
@@ -60,5 +66,9 @@ void plant_step(PlantModel *m, double h, bool enters_cell);
 
 /* Copy the state into the output variables. */
 void plant_publish_outputs(PlantModel *m);
+
+#if defined(__GNUC__)
+#pragma GCC visibility pop
+#endif
 
 #endif
