@@ -57,7 +57,7 @@ def _labels(message: str, signal: str) -> str:
 def _do_export(args: argparse.Namespace) -> int:
     fmt = args.format or args.out.rsplit(".", 1)[-1].lower()
     if fmt not in FORMATS:
-        raise SystemExit(f"crd dbc export: cannot tell the format of {args.out!r}; "
+        raise ValueError(f"crd dbc export: cannot tell the format of {args.out!r} from its suffix; "
                          f"give --format, one of {', '.join(FORMATS)}")
     print(export(fmt, args.out))
     return 0
