@@ -67,10 +67,22 @@ def test_canmatrix_exports_fibex_and_arxml_that_keeps_signals_apart(tmp_path):
     canmatrix_formats.dumpp(matrices, str(tmp_path / "c.xml"), export_type="fibex")
     assert (tmp_path / "c.xml").stat().st_size > 0
     canmatrix_formats.dumpp(matrices, str(tmp_path / "c.arxml"))
-    root = ET.parse(tmp_path / "c.arxml").getroot()
-    names = [el.findtext("{*}SHORT-NAME") for el in root.iter("{http://autosar.org/schema/r4.0}I-SIGNAL")]
-    assert len(names) == sum(len(m.signals) for m in DATABASE.messages)
-    assert len(set(names)) == len(names)
+    paths = arxml_paths(ET.parse(tmp_path / "c.arxml").getroot())
+    duplicates = sorted({p for p in paths if paths.count(p) > 1})
+    assert not duplicates, duplicates
+    assert sum(p.endswith("_CRC") for p in paths) >= len(DATABASE.messages)
+
+
+def arxml_paths(element: ET.Element, prefix: str = "") -> list[str]:
+    """The AUTOSAR path (SHORT-NAMEs from the root) of every named element, as cantools keys them."""
+    paths = []
+    for child in element:
+        name = child.findtext("{*}SHORT-NAME")
+        path = f"{prefix}/{name}" if name is not None else prefix
+        if name is not None:
+            paths.append(path)
+        paths.extend(arxml_paths(child, path))
+    return paths
 
 
 def test_attribute_definitions_the_tools_expect():
