@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import os
 import time
+import typing
 from pathlib import Path
 from typing import Any, Iterable
 
@@ -26,13 +27,23 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ..errors import ConfigError
-from ..results.run_record import TIMESERIES_COLUMNS
+from ..results.run_record import TIMESERIES_COLUMNS, RunMetrics
 from .task import METRIC_COLUMNS
 
 RESULTS_NAME = "results.parquet"
 META_KEY = b"crd.sweep"
-_METRIC_TYPES = {"collided": pa.bool_(), "contingency_invocations": pa.int64()}
+_ARROW_BY_HINT = {bool: pa.bool_(), int: pa.int64(), float: pa.float64(), str: pa.string()}
 _RESUME_MUST_MATCH = ("name", "seed", "fmu_sha256")
+
+
+def _metric_types() -> dict[str, pa.DataType]:
+    """Column types from RunMetrics' annotations (``float | None`` -> float64), so new metrics follow."""
+    hints = typing.get_type_hints(RunMetrics)
+    out = {}
+    for name in METRIC_COLUMNS:
+        args = [a for a in typing.get_args(hints[name]) if a is not type(None)] or [hints[name]]
+        out[name] = _ARROW_BY_HINT.get(args[0], pa.string())
+    return out
 
 
 def _arrow_type(value: Any) -> pa.DataType:
@@ -50,7 +61,7 @@ def results_schema(axis_values: dict[str, Any], meta: dict[str, Any]) -> pa.Sche
     fields = [("run", pa.int64()), ("run_key", pa.string()), ("seed", pa.int64()), ("replicate", pa.int64())]
     fields += [(path, _arrow_type(v)) for path, v in axis_values.items()]
     fields += [("strategy", pa.string())]
-    fields += [(m, _METRIC_TYPES.get(m, pa.float64())) for m in METRIC_COLUMNS]
+    fields += list(_metric_types().items())
     fields += [("status", pa.string()), ("error", pa.string()), ("task_wall_s", pa.float64())]
     return pa.schema(fields, metadata={META_KEY: json.dumps(meta, sort_keys=True).encode()})
 

@@ -15,6 +15,7 @@ once on another worker, then it is recorded as failed.)
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import os
 import tempfile
@@ -26,14 +27,13 @@ from distributed.diagnostics.plugin import WorkerPlugin
 
 from ..errors import PlantError
 from ..loop.master import run_scenario
-from ..results.run_record import RunRecord
+from ..results.run_record import RunMetrics, RunRecord
 from ..scenarios.loader import scenario_from_dict
 from ..world.plant_fmu import file_sha256
 from .plan import RunSpec
 
-#: metrics.json fields copied into each row (RunMetrics, without the strategy, which is its own column)
-METRIC_COLUMNS = ("collided", "impact_speed_mps", "min_gap_m", "final_gap_m", "contingency_invocations",
-                  "max_speed_mps", "sim_time_s", "wall_time_s")
+#: metrics.json fields copied into each row: every RunMetrics field but the strategy (its own column)
+METRIC_COLUMNS = tuple(f.name for f in dataclasses.fields(RunMetrics) if f.name != "strategy")
 STATUS_OK, STATUS_FAILED = "ok", "failed"
 
 _FMU_PATHS: dict[str, Path] = {}  # sha256 -> local file, per worker process
