@@ -141,3 +141,20 @@ def test_list_names_the_bundled_sweeps(capsys) -> None:
     assert main(["sweep", "--list"]) == 0
     out = capsys.readouterr().out
     assert "friction_lag_latency" in out and "paper_sensitivity" in out and "one_at_a_time" in out
+
+
+def test_axis_into_an_array_of_tables(tmp_path) -> None:
+    base = tmp_path / "two.toml"
+    base.write_text('[scenario]\nduration_s = 2.0\n[[objects]]\nposition_m = 80.0\n'
+                    '[[objects]]\nposition_m = 120.0\nspeed_mps = 5.0\n')
+    sweep = tmp_path / "s.toml"
+    sweep.write_text(f'[sweep]\nscenario = "{base}"\n[[axis]]\npath = "objects[1].speed_mps"\nvalues = [2, 8.0]\n')
+    plan = make_plan(load_sweep(sweep))
+    assert plan.base_values == {"objects[1].speed_mps": 5.0}
+    from cosim.scenarios.loader import scenario_from_dict
+
+    speeds = [scenario_from_dict(r.scenario).objects[1].speed_mps for r in plan.runs]
+    assert speeds == [2.0, 8.0] and [r.point.as_dict()["objects[1].speed_mps"] for r in plan.runs] == [2.0, 8.0]
+    sweep.write_text(f'[sweep]\nscenario = "{base}"\n[[axis]]\npath = "objects[2].speed_mps"\nvalues = [1.0]\n')
+    with pytest.raises(ConfigError, match=r"axis\[0\].path: key path 'objects\[2\].speed_mps': index \[2\] out of range"):
+        make_plan(load_sweep(sweep))
