@@ -110,15 +110,26 @@ def _dashboard(client: Client) -> tuple[str | None, str]:
     return link, f"Dask dashboard: {link}" if link else "Dask dashboard unavailable"
 
 
-def _threads(client: Client) -> int:
-    return max(1, sum(w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values()))
+class _Threads:
+    """The cluster's worker threads, asked of the scheduler at most once a second (workers come and go)."""
+
+    def __init__(self, client: Client, period_s: float = 1.0) -> None:
+        self.client, self.period_s = client, period_s
+        self._value, self._when = 1, -float("inf")
+
+    def __call__(self) -> int:
+        if time.monotonic() - self._when >= self.period_s:
+            workers = self.client.scheduler_info()["workers"].values()
+            self._value = max(1, sum(w.get("nthreads", 1) for w in workers))
+            self._when = time.monotonic()
+        return self._value
 
 
 def _collect(client: Client, submit: Callable[[RunSpec], Any], todo: list[RunSpec], table: ResultsTable,
              out_dir: Path, progress: SweepProgress | None, outcome: SweepOutcome) -> None:
     """Keep one run in flight per cluster thread; hand each row to the table as it arrives."""
-    pending = iter(todo)
-    in_flight = {submit(run): run for run in itertools.islice(pending, _threads(client))}
+    pending, threads = iter(todo), _Threads(client)
+    in_flight = {submit(run): run for run in itertools.islice(pending, threads())}
     completed = as_completed(list(in_flight), loop=client.loop)
     for future in completed:
         run = in_flight.pop(future)
@@ -127,7 +138,7 @@ def _collect(client: Client, submit: Callable[[RunSpec], Any], todo: list[RunSpe
         except Exception as exc:  # noqa: BLE001 - KilledWorker after the retry, or a lost task
             row = failed_row(run, f"{type(exc).__name__}: {exc}")
         future.release()
-        for nxt in itertools.islice(pending, max(1, _threads(client) - len(in_flight))):
+        for nxt in itertools.islice(pending, max(1, threads() - len(in_flight))):
             new = submit(nxt)
             in_flight[new] = nxt
             completed.add(new)
@@ -157,13 +168,16 @@ def run_plan(plan: SweepPlan, table: ResultsTable, out_dir: Path, opts: ClusterO
         if progress is not None:
             progress.start(len(plan.runs), outcome.skipped, outcome.dashboard, note)
         if todo:
-            client.register_plugin(FmuShipper(fmu_bytes, fmu_sha))
+            shipper = FmuShipper(fmu_bytes, fmu_sha)
+            client.register_plugin(shipper)
 
             def submit(run: RunSpec):
                 return client.submit(task, run, fmu_sha, keep_timeseries, key=f"crd-run-{run.key}",
                                      pure=False)
 
             _collect(client, submit, todo, table, out_dir, progress, outcome)
+            if cluster is None:  # an attached scheduler would hand the FMU to every worker that ever joins
+                client.unregister_worker_plugin(shipper.name)
     finally:
         table.close()
         if progress is not None:
