@@ -1,6 +1,7 @@
 """Sweep figures (issue 12, "Figures").
 
-Run: ``python benchmarks/bench_sweep.py [--sweep friction_lag_latency] [--subset 48] [--repeat 3] [--skip-full] [--out DIR]``.
+Run: ``python benchmarks/bench_sweep.py [--sweep friction_lag_latency] [--subset 48] [--repeat 3] [--skip-full]
+[--skip-scaling] [--out DIR]``.
 
 * the whole sweep (default ``friction_lag_latency``, 1008 paper-length runs) on a
   local cluster of 2 worker processes (goal: <= 120 s on the 2-core machine);
@@ -55,16 +56,16 @@ class MemorySampler(threading.Thread):
         self.client = Client(address, set_as_default=False)
         self.period_s = period_s
         self.samples: dict[str, list[tuple[float, int]]] = {}
-        self._stop = threading.Event()
+        self._halt = threading.Event()
 
     def run(self) -> None:
         t0 = time.perf_counter()
-        while not self._stop.wait(self.period_s):
+        while not self._halt.wait(self.period_s):
             for worker, rss in self.client.run(_rss).items():
                 self.samples.setdefault(worker, []).append((time.perf_counter() - t0, rss))
 
     def stop(self) -> None:
-        self._stop.set()
+        self._halt.set()
         self.join()
         self.client.close()
 
@@ -120,6 +121,7 @@ def main() -> None:
     ap.add_argument("--subset", type=int, default=48, help="runs in the 1-vs-2-worker comparison")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--skip-full", action="store_true", help="skip the whole sweep (scaling and overhead only)")
+    ap.add_argument("--skip-scaling", action="store_true", help="skip the 1-vs-2-worker comparison")
     ap.add_argument("--out", type=Path, help="keep the whole sweep's results.parquet here (then: crd sweep report DIR)")
     args = ap.parse_args()
     plan = make_plan(load_sweep(args.sweep))
@@ -130,11 +132,11 @@ def main() -> None:
     subset = dataclasses.replace(plan, runs=plan.runs[::step][:args.subset])
     rates = {1: [], 2: []}
     with tempfile.TemporaryDirectory() as tmp:
-        for rep in range(args.repeat):
+        for rep in range(0 if args.skip_scaling else args.repeat):
             for workers in (1, 2):
                 elapsed, rows, _ = timed_run(subset, workers, Path(tmp) / f"s{rep}w{workers}")
                 rates[workers].append(len(rows) / elapsed)
-        r1, r2 = statistics.median(rates[1]), statistics.median(rates[2])
+        r1, r2 = (statistics.median(rates[w]) if rates[w] else float("nan") for w in (1, 2))
         print(f"subset of {len(subset.runs)} runs, median of {args.repeat}: 1 worker {r1:.2f} runs/s, "
               f"2 workers {r2:.2f} runs/s, ratio {r2 / r1:.2f} (goal >= 1.85); "
               f"all: 1w {[round(x, 2) for x in rates[1]]}, 2w {[round(x, 2) for x in rates[2]]}")

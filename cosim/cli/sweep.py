@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -23,12 +24,18 @@ from ..errors import ConfigError
 
 
 class ProgressBar:
-    """A tqdm bar on stderr: runs done, rate, ETA, failures so far; the dashboard address above it."""
+    """Runs done, rate, ETA and failures on stderr, with the dashboard address above.
+
+    On a terminal a tqdm bar; otherwise (a log file, CI) the same line, newline-terminated,
+    every 10 s and at the end, never a carriage-return soup.
+    """
 
     def __init__(self, header: str) -> None:
         self._header = header
         self._bar = None
         self._failed = 0
+        self._tty = sys.stderr.isatty()
+        self._last = 0.0
 
     def start(self, total: int, already: int, dashboard: str | None, note: str) -> None:
         from tqdm import tqdm
@@ -38,13 +45,26 @@ class ProgressBar:
         if already:
             print(f"resuming: {already} of {total} runs already in the table", file=sys.stderr)
         self._bar = tqdm(total=total, initial=already, unit="run", file=sys.stderr, dynamic_ncols=True,
-                         mininterval=0.5 if sys.stderr.isatty() else 10.0)
+                         disable=not self._tty)
+        self._total, self._done, self._t0 = total, already, time.monotonic()
+        self._already = already
 
     def advance(self, row: dict[str, Any]) -> None:
+        self._done += 1
         if row["status"] != "ok":
             self._failed += 1
             self._bar.set_postfix(failed=self._failed, refresh=False)
         self._bar.update(1)
+        if not self._tty and (time.monotonic() - self._last >= 10.0 or self._done == self._total):
+            self._last = time.monotonic()
+            self._line()
+
+    def _line(self) -> None:
+        from tqdm import tqdm
+
+        meter = tqdm.format_meter(self._done - self._already, self._total - self._already,
+                                  time.monotonic() - self._t0, unit="run", ascii=True)
+        print(f"{meter}, {self._failed} failed", file=sys.stderr, flush=True)
 
     def close(self) -> None:
         if self._bar is not None:
