@@ -15,6 +15,7 @@ rows with their error, counted in the summary), 1 on an error.
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 import time
 from pathlib import Path
@@ -131,6 +132,9 @@ def _do_sweep(args: argparse.Namespace) -> int:
     from ..sweep.runner import ClusterOptions
     from ..sweep.session import run_sweep
     from ..sweep.spec import load_sweep
+
+    if not args.debug:  # Dask logs every worker start and stop at INFO (its logging is set up on import)
+        logging.getLogger("distributed").setLevel(logging.WARNING)
 
     spec = load_sweep(args.target[0])
     out_dir = args.out or Path("out/sweep") / spec.name
