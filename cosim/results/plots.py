@@ -10,18 +10,26 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Iterable
 
-import matplotlib
+from can_dbc import MODE_NAMES
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402 - the backend must be chosen first
+from .run_record import RunRecord
 
-from .run_record import RunRecord  # noqa: E402
+_MODE_LEVEL = {name: value for value, name in MODE_NAMES.items()} | {"NO_OVERRIDE": -1}
 
-_MODE_LEVEL = {"STANDBY": 0, "TIGHTENING": 1, "CONTINGENCY": 2, "FAULT": 3, "NO_OVERRIDE": -1}
+
+def _pyplot():
+    """matplotlib's pyplot on the Agg backend, imported on the first plot (it costs about 0.3 s)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
 
 
 def speed_profiles(path: Path, records: Iterable[RunRecord], object_position_m: float | None) -> None:
     """Speed (m/s) against position (m), one line per strategy (Johnson 2019, Fig. 2)."""
+    plt = _pyplot()
     fig, ax = plt.subplots(figsize=(8, 4.5), dpi=110)
     for r in records:
         label = r.strategy + (" (collided)" if r.metrics.collided else "")
@@ -41,6 +49,7 @@ def speed_profiles(path: Path, records: Iterable[RunRecord], object_position_m: 
 
 def timeline(path: Path, record: RunRecord) -> None:
     """Speed, gap, pedals/commands and ECU mode against time for one run."""
+    plt = _pyplot()
     t = record.column("time_s")
     fig, axes = plt.subplots(4, 1, figsize=(8, 8), dpi=100, sharex=True)
     axes[0].plot(t, record.column("speed_mps"))
