@@ -2,17 +2,20 @@
 
 :class:`InputLatch` keeps the latest fresh value of each input message and the
 cycle time at which it was received, and builds :class:`~ecu.core.CoreInputs`
-from them. Conversions (DBC -> SI, factors from :mod:`can_dbc.units`): wheel speeds
-km/h / 3.6 -> m/s, pedals % / 100 -> fraction, object range m, range rate m/s (negative closing),
+from them. Conversions (DBC -> SI, factors from :mod:`can_dbc.units`): wheel
+speeds km/h / 3.6 -> m/s, pedals % / 100 -> fraction, object range m, range rate m/s
+(negative closing), lateral m,
 ``ObjectValid`` 0/1 -> bool. The outgoing side encodes ``SafetyOverride`` and
 ``EcuStatus`` through ``can_dbc.encode`` (counter and CRC filled in); status
-values are clamped into their DBC ranges because they are informational.
+values are clamped into their DBC ranges because they are informational. Each
+:class:`~ecu.core.types.FaultFlag` bit travels as its own 1-bit ``EcuStatus``
+signal (``FAULT_SIGNALS``; bit k at DBC bit 50 + k).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Callable
+from typing import Callable, Mapping
 
 import can
 
@@ -20,11 +23,29 @@ from can_dbc import Frame, Receiver, encode, signal_range
 from can_dbc.units import KMH_PER_MPS, PERCENT
 
 from .core import CoreInputs, CoreOutputs
-from .core.types import NEVER_S
+from .core.types import NEVER_S, FaultFlag
 
 #: messages the ECU consumes (the SimClock paces sim-time mode only).
 INPUT_MESSAGES = ("WheelSpeeds", "DriverInput", "ObjectTrack")
 SIM_CLOCK = "SimClock"
+#: each fault bit's 1-bit signal in ``EcuStatus`` (the DBC places bit k at bit 50 + k)
+FAULT_SIGNALS: dict[FaultFlag, str] = {
+    FaultFlag.WHEEL_SPEED_TIMEOUT: "FaultWheelSpeedTimeout",
+    FaultFlag.DRIVER_INPUT_TIMEOUT: "FaultDriverInputTimeout",
+    FaultFlag.OBJECT_TIMEOUT: "FaultObjectTimeout",
+    FaultFlag.E2E_ERROR: "FaultE2E",
+    FaultFlag.INTERNAL: "FaultInternal",
+}
+
+
+def fault_signals(fault_flags: int) -> dict[str, int]:
+    """The ``EcuStatus`` fault signals (0/1 each) of the ``fault_flags`` bit field."""
+    return {name: (fault_flags >> bit) & 1 for bit, name in FAULT_SIGNALS.items()}
+
+
+def fault_flags_of(signals: Mapping[str, float]) -> int:
+    """The fault bit field of a decoded ``EcuStatus`` (inverse of :func:`fault_signals`)."""
+    return sum(int(signals[name]) << bit for bit, name in FAULT_SIGNALS.items())
 
 
 class InputLatch:
@@ -37,6 +58,7 @@ class InputLatch:
         self.object_valid = False
         self.object_range_m = 0.0
         self.object_range_rate_mps = 0.0
+        self.object_lateral_m = 0.0
         self.rx_t_s = {name: NEVER_S for name in INPUT_MESSAGES}
         self._handlers: dict[str, Callable[[dict], None]] = {
             "WheelSpeeds": self._wheels,
@@ -67,16 +89,18 @@ class InputLatch:
         self.object_valid = bool(s["ObjectValid"])
         self.object_range_m = s["ObjectRange"]
         self.object_range_rate_mps = s["ObjectRangeRate"]
+        self.object_lateral_m = s["ObjectLateral"]
 
     def inputs(self, t_s: float, receiver: Receiver) -> CoreInputs:
         """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores."""
         rx, score = self.rx_t_s, receiver.score
-        # positional, in CoreInputs' field order: built every cycle, and binding 13 keywords costs more
+        # positional, in CoreInputs' field order: built every cycle, and binding 14 keywords costs more
         return CoreInputs(
             t_s, self.wheel_speeds_mps, self.accel_pedal, self.brake_pedal, self.object_valid,
             self.object_range_m, self.object_range_rate_mps,
             rx["WheelSpeeds"], rx["DriverInput"], rx["ObjectTrack"],
             score("WheelSpeeds"), score("DriverInput"), score("ObjectTrack"),
+            self.object_lateral_m,
         )
 
 
@@ -87,7 +111,6 @@ def _clamped(value: float, limits: tuple[float, float]) -> float:
 
 _PROXIMITY, _STOPPING_M, _SPEED_MPS = (signal_range("EcuStatus", name)
                                        for name in ("Proximity", "StoppingDistance", "SpeedEstimate"))
-_FAULT_MASK = int(signal_range("EcuStatus", "FaultFlags")[1])
 
 
 def override_message(outputs: CoreOutputs, counter: int) -> can.Message:
@@ -107,5 +130,5 @@ def status_message(outputs: CoreOutputs, strategy_code: int, counter: int) -> ca
         "Proximity": _clamped(outputs.proximity, _PROXIMITY),
         "StoppingDistance": _clamped(outputs.stopping_distance_m, _STOPPING_M),
         "SpeedEstimate": _clamped(outputs.speed_estimate_mps, _SPEED_MPS),
-        "FaultFlags": outputs.fault_flags & _FAULT_MASK,
+        **fault_signals(outputs.fault_flags),
     }, counter=counter)
