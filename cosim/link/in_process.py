@@ -36,7 +36,7 @@ class InProcessLink:
             raise
         self.node = EcuNode(self._ecu_bus, config)
         self.events: list[RunEvent] = []
-        # bound once: the master calls these every cycle
+        # bound once: the master calls these every cycle (saves an attribute chain per call)
         self._send_frame, self._recv_frame, self._step = self._bus.send, self._bus.recv, self.node.step
 
     def start(self) -> None:
@@ -64,10 +64,10 @@ class InProcessLink:
     def report(self) -> LinkReport:
         return LinkReport()
 
-    def close(self) -> None:
-        self._ecu_bus.shutdown()
-        self._bus.shutdown()
-
     def time_phases(self, timed) -> None:
         """Profiling only: charge the node's cycle to the ``ecu`` phase (see :mod:`cosim.loop.phase_timer`)."""
         self._step = timed("ecu", self._step)
+
+    def close(self) -> None:
+        self._ecu_bus.shutdown()
+        self._bus.shutdown()
