@@ -23,7 +23,18 @@ SUBCOMMANDS: dict[str, str] = {
     "ecu": "ecu.cli",
     "run": "cosim.cli.run",
     "paper": "cosim.cli.paper",
+    "scenarios": "cosim.cli.scenarios",
+    "compare": "cosim.cli.compare",
 }
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return f"crd {version('crd')}"
+    except PackageNotFoundError:
+        return "crd (version unknown: not installed)"
 
 
 def _build_parser(argv: list[str]) -> argparse.ArgumentParser:
@@ -32,6 +43,7 @@ def _build_parser(argv: list[str]) -> argparse.ArgumentParser:
         description="Colliding reciprocal dance: FMI co-simulation and CAN active-safety ECU.",
     )
     parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
+    parser.add_argument("--version", action="version", version=_version())
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     wanted = next((a for a in argv if a in SUBCOMMANDS), None)
