@@ -123,5 +123,5 @@ def _write_summary(out_dir: Path, scenario: Scenario, records: list[RunRecord], 
         verdicts = judge(records)
     except (KeyError, ValueError) as exc:  # e.g. a run that stopped on an error before its first sample
         verdicts = ("Verdicts", [Verdict("evaluation", False, f"could not be evaluated: {exc}")])
-    title = f"{scenario.scenario.name}: {', '.join(r.strategy for r in records)}"
+    title = f"crd report: {scenario.scenario.name} ({', '.join(r.strategy for r in records)})"
     write_report(out_dir / "report.md", title, records, verdicts, plots, resolved.read_text())

@@ -74,7 +74,7 @@ def _draw_profiles(ax, profiles: Sequence[Profile], object_position_m: float | N
             ax.plot([hit.position_m], [hit.speed_mps], **_COLLISION,
                     label=f"{p.label}: collision at {hit.speed_mps:.2f} m/s")
     if object_position_m is not None:
-        ax.axvline(object_position_m, color="k", linestyle="--", linewidth=1, label="object (cyclist)")
+        ax.axvline(object_position_m, color="k", linestyle="--", linewidth=1, label="object")
     ax.set_ylabel("speed (m/s)")
     ax.grid(True, alpha=0.3)
 
@@ -87,8 +87,13 @@ def _zoom(ax, profiles: Sequence[Profile], lo_m: float, hi_m: float) -> None:
         ax.set_ylim(-0.5, max(speeds) * 1.05 + 0.5)
 
 
-def profile_figure(path: Path, profiles: Sequence[Profile], object_position_m: float | None,
-                   title: str, split_m: float | None = None) -> None:
+def _save(fig, path: Path) -> None:
+    fig.savefig(path)
+    _pyplot().close(fig)
+
+
+def profile_figure(profiles: Sequence[Profile], object_position_m: float | None,
+                   title: str, split_m: float | None = None):
     """Speed against position; with an object, a second panel zoomed on the last ``ZOOM_SPAN_M`` before it."""
     plt = _pyplot()
     zoom = object_position_m is not None
@@ -106,24 +111,19 @@ def profile_figure(path: Path, profiles: Sequence[Profile], object_position_m: f
         if split_m is not None and lo < split_m < object_position_m:
             near.axvline(split_m, color="0.4", linestyle=":", linewidth=1.2, label=f"claim 4 split ({split_m:g} m)")
         near.set_title(f"zoom: {lo:g}–{object_position_m + 2.0:g} m")
-        near.set_xlabel("position (m)")
-        handles, labels = near.get_legend_handles_labels()
-        handles_full, labels_full = full.get_legend_handles_labels()
-        extra = [(h, lab) for h, lab in zip(handles_full, labels_full) if lab not in labels]
-        handles, labels = handles + [h for h, _ in extra], labels + [lab for _, lab in extra]
-    else:
-        full.set_xlabel("position (m)")
-        handles, labels = full.get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside right upper", fontsize=9)
-    fig.savefig(path)
-    plt.close(fig)
+    axes[-1][0].set_xlabel("position (m)")
+    entries = {}  # one legend entry per label, over both panels
+    for ax in fig.axes:
+        entries.update({lab: h for h, lab in zip(*ax.get_legend_handles_labels()) if lab not in entries})
+    fig.legend(list(entries.values()), list(entries), loc="outside right upper", fontsize=9)
+    return fig
 
 
 def speed_profiles(path: Path, records: Sequence[RunRecord], object_position_m: float | None,
                    split_m: float | None = None) -> None:
     """Speed (m/s) against position (m), one line per strategy (Johnson 2019, Fig. 2)."""
     profiles = [Profile(r.strategy, r) for r in records]
-    profile_figure(path, profiles, object_position_m, "Vehicle speed as a function of path position", split_m)
+    _save(profile_figure(profiles, object_position_m, "Vehicle speed as a function of path position", split_m), path)
 
 
 def overlay_profiles(path: Path, runs: Sequence[tuple[str, Sequence[RunRecord]]],
@@ -132,7 +132,7 @@ def overlay_profiles(path: Path, runs: Sequence[tuple[str, Sequence[RunRecord]]]
     styles = ("-", "--", ":", "-.")
     profiles = [Profile(f"{name}: {r.strategy}", r, styles[i % len(styles)])
                 for i, (name, records) in enumerate(runs) for r in records]
-    profile_figure(path, profiles, object_position_m, title)
+    _save(profile_figure(profiles, object_position_m, title), path)
 
 
 
@@ -151,6 +151,11 @@ def active_end_s(record: RunRecord) -> float:
 
 
 def timeline(path: Path, record: RunRecord) -> None:
+    """``timeline.png`` of one run (:func:`timeline_figure`)."""
+    _save(timeline_figure(record), path)
+
+
+def timeline_figure(record: RunRecord):
     """Speed, gap, pedals/commands and ECU mode against time for one run, trimmed to its active part."""
     plt = _pyplot()
     t = record.column("time_s")
@@ -182,5 +187,4 @@ def timeline(path: Path, record: RunRecord) -> None:
         ax.grid(True, alpha=0.3)
         if len(ax.get_legend_handles_labels()[1]) > 1:  # a single line is named by its y label
             ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9, borderaxespad=0.0)
-    fig.savefig(path)
-    plt.close(fig)
+    return fig
