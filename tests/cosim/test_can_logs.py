@@ -5,6 +5,7 @@ One short run writes every format; the tests read them back with the tools engin
 asammdf (``extract_bus_logging`` with our DBC), python-can's readers and cantools.
 """
 
+import subprocess
 import sys
 from datetime import datetime, timezone
 
@@ -130,3 +131,16 @@ def test_mf4_without_asammdf_fails_before_the_run(tmp_path, capsys, monkeypatch)
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert "MF4 needs asammdf" in err and "pip install 'crd[mdf]'" in err
     assert not (tmp_path / "o").exists()
+
+
+def test_crd_command_keeps_asammdf_for_mf4(tmp_path):
+    """The ``crd`` command starts without asammdf unless a .mf4 is named (python-can would import it
+    eagerly); naming one, in any letter case, still writes it."""
+    (tmp_path / "s.toml").write_text(SCENARIO.format(extra=""))
+    subprocess.run([sys.executable, "-m", "cosim.cli.main", "run", str(tmp_path / "s.toml"), "--out",
+                    str(tmp_path / "o"), "--can-log", "X.MF4"], check=True, capture_output=True, timeout=300)
+    mdf = asammdf.MDF(str(tmp_path / "o" / "none" / "X.MF4"))
+    try:
+        assert len(mdf.get("CAN_DataFrame.ID").samples) > 500
+    finally:
+        mdf.close()
