@@ -64,7 +64,7 @@ def _build_parser(argv: list[str]) -> argparse.ArgumentParser:
 def _hide_unused_asammdf(argv: list[str]) -> None:
     """Start without asammdf unless a ``.mf4`` file is named.
 
-    python-can imports asammdf (and with it pandas: about 1 s and 40 MB) on
+    python-can imports asammdf (and with it pandas: about 1 s and 60 MB) on
     ``import can`` whenever it is installed (the ``crd[mdf]`` extra), although
     only MF4 files need it. Marking it absent before ``can`` is imported keeps
     every other command, and each spawned ``crd ecu``, as quick to start as

@@ -20,7 +20,7 @@ from typing import Sequence
 
 from .run_record import RunRecord
 
-STRATEGY_COLORS = {"none": "C0", "conservative": "C1", "tightening": "C2"}  # the same in every plot
+STRATEGY_COLORS = {"none": "C0", "conservative": "C1", "tightening": "C2", "adaptive": "C4"}  # in every plot
 _MODE_LEVEL = {"STANDBY": 0, "TIGHTENING": 1, "CONTINGENCY": 2, "FAULT": 3, "NO_OVERRIDE": -1}
 ZOOM_SPAN_M = 75.0  # the zoomed panel: this far before the object (150..225 m in the paper)
 _COLLISION = dict(color="crimson", marker="X", markersize=10, linestyle="none", zorder=5)
