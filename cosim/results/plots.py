@@ -24,6 +24,9 @@ STRATEGY_COLORS = {"none": "C0", "conservative": "C1", "tightening": "C2", "adap
 _MODE_LEVEL = {"STANDBY": 0, "TIGHTENING": 1, "CONTINGENCY": 2, "FAULT": 3, "NO_OVERRIDE": -1}
 ZOOM_SPAN_M = 75.0  # the zoomed panel: this far before the object (150..225 m in the paper)
 _COLLISION = dict(color="crimson", marker="X", markersize=10, linestyle="none", zorder=5)
+# Fixed margins (fractions of the figure) leave the right-hand strip to the legends; a layout
+# engine would find them too, at about half of the plotting time.
+_RIGHT = 0.75
 
 
 def _pyplot():
@@ -97,8 +100,9 @@ def profile_figure(profiles: Sequence[Profile], object_position_m: float | None,
     """Speed against position; with an object, a second panel zoomed on the last ``ZOOM_SPAN_M`` before it."""
     plt = _pyplot()
     zoom = object_position_m is not None
-    fig, axes = plt.subplots(2 if zoom else 1, 1, figsize=(10, 7.5 if zoom else 4.5), dpi=110,
-                             layout="constrained", squeeze=False)
+    fig, axes = plt.subplots(2 if zoom else 1, 1, figsize=(10.5, 7.5 if zoom else 4.5), dpi=110, squeeze=False)
+    top = 0.95 if zoom else 0.91
+    fig.subplots_adjust(left=0.07, right=_RIGHT, top=top, bottom=0.08 if zoom else 0.12, hspace=0.25)
     full = axes[0][0]
     _draw_profiles(full, profiles, object_position_m)
     full.set_title(title)
@@ -115,7 +119,8 @@ def profile_figure(profiles: Sequence[Profile], object_position_m: float | None,
     entries = {}  # one legend entry per label, over both panels
     for ax in fig.axes:
         entries.update({lab: h for h, lab in zip(*ax.get_legend_handles_labels()) if lab not in entries})
-    fig.legend(list(entries.values()), list(entries), loc="outside right upper", fontsize=9)
+    fig.legend(list(entries.values()), list(entries), loc="upper left", bbox_to_anchor=(_RIGHT + 0.01, top),
+               fontsize=9, borderaxespad=0.0)
     return fig
 
 
@@ -161,12 +166,15 @@ def timeline_figure(record: RunRecord):
     t = record.column("time_s")
     end_s = t[-1] if t else 0.0
     shown_s = min(end_s, active_end_s(record) + 2.0)
-    fig, axes = plt.subplots(4, 1, figsize=(9, 8), dpi=100, sharex=True, layout="constrained")
+    fig, axes = plt.subplots(4, 1, figsize=(10, 8), dpi=100, sharex=True)
+    fig.subplots_adjust(left=0.13, right=_RIGHT, top=0.95, bottom=0.07, hspace=0.12)
     axes[0].plot(t, record.column("speed_mps"), label="speed")
     axes[0].set_ylabel("speed (m/s)")
     gaps = [g if g < 1e9 else float("nan") for g in record.column("gap_m")]
     axes[1].plot(t, gaps, label="gap to object")
     axes[1].set_ylabel("gap (m)")
+    if all(g != g for g in gaps):  # all NaN: nothing in the lane
+        axes[1].text(0.5, 0.5, "no object in the lane", transform=axes[1].transAxes, ha="center", va="center")
     axes[2].plot(t, record.column("throttle"), label="throttle applied")
     axes[2].plot(t, record.column("brake"), label="brake applied")
     axes[2].plot(t, [p / 100 for p in record.column("accel_pedal_pct")], ":", label="accelerator pedal")
