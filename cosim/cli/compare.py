@@ -34,6 +34,7 @@ def _do_compare(args: argparse.Namespace) -> int:
     overlay_profiles(png, [("A", a.records), ("B", b.records)], a.object_position_m if same_object else None,
                      title=f"A = {a.path} (solid), B = {b.path} (dashed)")
     if not same_object:
-        print(f"note: the object stands at {a.object_position_m} m in A and {b.object_position_m} m in B (not drawn)")
+        where = ["none" if d.object_position_m is None else f"{d.object_position_m:g} m" for d in (a, b)]
+        print(f"note: the runs' objects differ (A: {where[0]}, B: {where[1]}), so neither is drawn")
     print(f"\nspeed profiles overlaid: {png}")
     return 0
