@@ -8,7 +8,7 @@ from importlib.metadata import version
 import pytest
 
 from cosim.cli.main import main as crd
-from cosim.cli.scenarios import BUNDLED_DIR
+from cosim.cli.scenarios import BUNDLED_DIR, find_scenario
 from cosim.loop.experiment import run_strategies
 from cosim.results.paper_claims import evaluate
 from cosim.results.run_record import RunMetrics, RunRecord
@@ -36,10 +36,13 @@ def test_scenarios_lists_the_bundled_files(capsys):
     assert "The paper's experiment (Johnson 2019, section III)" in out
 
 
-@pytest.mark.parametrize("name", ["paper_cyclist", "paper_cyclist.toml"])
-def test_run_finds_a_bundled_scenario_by_name(tmp_path, monkeypatch, capsys, name):
+def test_run_finds_a_bundled_scenario_by_name(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)  # no such file here: the name must resolve to the bundled one
-    assert crd(["run", name, "--strategy", "none", "--out", "o"]) == 0
+    assert find_scenario("paper_cyclist.toml") == find_scenario("paper_cyclist") == BUNDLED_DIR / "paper_cyclist.toml"
+    (tmp_path / "paper_cyclist.toml").write_text("[scenario]\n")
+    assert find_scenario("paper_cyclist.toml").resolve() == tmp_path / "paper_cyclist.toml"  # a file given wins
+    (tmp_path / "paper_cyclist.toml").unlink()
+    assert crd(["run", "paper_cyclist", "--strategy", "none", "--out", "o"]) == 0
     assert "paper_cyclist.toml (strategy none)" in capsys.readouterr().err
     runs = json.loads((tmp_path / "o" / "metrics.json").read_text())["runs"]
     assert runs[0]["collided"] and runs[0]["impact_speed_mps"] == pytest.approx(4.28, abs=0.01)
@@ -68,6 +71,9 @@ def test_run_writes_report_md(tmp_path):
     assert resolved.strip() in report
     tables = [line for line in report.splitlines() if line.startswith("| conservative")]
     assert tables and not RAW_FLOAT.search(tables[0])
+    events = json.loads((tmp_path / "o" / "conservative" / "events.json").read_text())["events"]
+    assert not [e for e in events if e["kind"] == "warning"]  # the builtin plant has wheel speeds
+    assert "ABS wheel slip" not in report
 
 
 def test_claim_details_are_rounded():
@@ -128,10 +134,3 @@ def test_derived_wheel_speeds_warn_in_events_and_report(point_mass_fmu, tmp_path
     assert len(warnings) == 1 and "ABS wheel slip is invisible to the ECU" in warnings[0]["detail"]
     assert "ABS wheel slip is invisible to the ECU" in (tmp_path / "report.md").read_text()
 
-
-def test_builtin_plant_has_no_wheel_speed_warning(tmp_path):
-    (tmp_path / "s.toml").write_text(SHORT.format(d=1.0, p=40.0))
-    assert crd(["run", str(tmp_path / "s.toml"), "--out", str(tmp_path / "o")]) == 0
-    events = json.loads((tmp_path / "o" / "conservative" / "events.json").read_text())["events"]
-    assert not [e for e in events if e["kind"] == "warning"]
-    assert "ABS wheel slip" not in (tmp_path / "o" / "report.md").read_text()
