@@ -84,7 +84,8 @@ def test_a_third_participant_is_refused(channel: str, caplog) -> None:
         third = PairSocketBus(channel, role="connect")
         try:
             with caplog.at_level("WARNING", logger="can_transport.pair_bus"):
-                a.send(_frame(1))  # the listener takes (and refuses) waiting connections here
+                a.recv(timeout=0.2)  # the listener takes (and refuses) waiting connections when it polls
+            a.send(_frame(1))
             assert any("third participant" in r.getMessage() for r in caplog.records)
             with pytest.raises(can.CanOperationError, match="without BYE"):
                 third.recv(timeout=2.0)
