@@ -212,7 +212,7 @@ class PairSocketBus(can.BusABC):
                 self._poll((deadline - now) * 1000.0)
             else:
                 break
-        if queue:
+        if self._gone is None:
             self._spin.waited(clock() - start)
 
     def _raise_pending(self) -> None:

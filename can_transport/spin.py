@@ -18,10 +18,11 @@ So a receiver polls only when both hold:
    taken at most every ``SAMPLE_PERIOD_S`` (reading it costs ~10 µs). Without
    ``/proc/loadavg`` it never polls;
 2. **the answer usually comes soon**: the budget is twice an exponential
-   moving average (weight 1/8) of recent waits, capped at ``max_spin_s``;
-   when the average exceeds the cap (an idle peer, a slow one), the budget is
-   0. A poll that ran out halves the average's influence by counting the
-   whole wait, so a peer that slows down stops the polling within a few waits.
+   moving average (weight 1/8) of recent waits (each counted whole, polling
+   and blocking, up to ``4 * max_spin_s``); when twice the average exceeds
+   ``max_spin_s`` (an idle peer, a slow one) the budget is 0, so a peer that
+   slows down stops the polling within a few waits, and one that speeds up
+   again starts it (a blocked wait is measured too).
 
 The receiver calls :meth:`budget_s` before a wait and :meth:`waited` after it.
 """
@@ -29,7 +30,6 @@ The receiver calls :meth:`budget_s` before a wait and :meth:`waited` after it.
 from __future__ import annotations
 
 import os
-import time
 
 #: how often /proc/loadavg is read, at most (s)
 SAMPLE_PERIOD_S = 0.02
@@ -51,9 +51,11 @@ class AdaptiveSpin:
     ----------
     max_spin_s : float
         The longest a receiver polls before blocking; 0 always blocks.
+    loadavg_path : str
+        Where the runnable-task count is read (``/proc/loadavg``; tests give a file of their own).
     """
 
-    def __init__(self, max_spin_s: float) -> None:
+    def __init__(self, max_spin_s: float, loadavg_path: str = _LOADAVG) -> None:
         self.max_spin_s = max_spin_s
         self._cpus = usable_cpus()
         self._mean_wait_s = max_spin_s / 4.0
@@ -62,7 +64,7 @@ class AdaptiveSpin:
         self._loadavg_fd: int | None = None
         if max_spin_s > 0.0:
             try:
-                self._loadavg_fd = os.open(_LOADAVG, os.O_RDONLY | os.O_CLOEXEC)
+                self._loadavg_fd = os.open(loadavg_path, os.O_RDONLY | os.O_CLOEXEC)
             except OSError:
                 self._loadavg_fd = None  # no way to tell a busy machine: never poll
 
