@@ -30,7 +30,7 @@ class Mode(IntEnum):
 
 
 class FaultFlag(IntEnum):
-    """Bit numbers of ``EcuStatus.FaultFlags``."""
+    """Fault bit numbers; bit k is the ``EcuStatus`` signal at DBC bit 50 + k (``ecu.bus_port.FAULT_SIGNALS``)."""
 
     WHEEL_SPEED_TIMEOUT = 0
     DRIVER_INPUT_TIMEOUT = 1
@@ -55,6 +55,7 @@ class CoreInputs(NamedTuple):
     wheel_e2e_score: int = 0
     driver_e2e_score: int = 0
     object_e2e_score: int = 0
+    object_lateral_m: float = 0.0  # the object's centre offset from our path, left positive
 
 
 class CoreState(NamedTuple):
