@@ -201,6 +201,8 @@ class PairSocketBus(can.BusABC):
         start = clock()
         deadline = None if timeout is None else start + timeout
         spin_end = start + self._spin.budget_s(start)
+        if deadline is not None and deadline < spin_end:
+            spin_end = deadline
         queue = self._queue
         while not queue and self._gone is None and not self._unreported_drops:
             now = clock()
