@@ -2,7 +2,7 @@
 
 ``crd ecu --sim-time`` kept every frame received before the next ``SimClock``
 (one ``can.Message`` each): a 12 k/s flood grew it from 32 to 219 MB in 60 s.
-Here 60,000 valid frames (5 s of that flood) arrive with no ``SimClock``; the
+Here 30,000 valid frames (2.5 s of that flood) arrive with no ``SimClock``; the
 node may keep only the latest checked frame of each message. Counted with
 ``tracemalloc``, so the test does not depend on timing or on the allocator.
 The 60 s RSS figure is ``python benchmarks/bench_hil.py --flood-s 60``.
@@ -19,7 +19,7 @@ from ecu import EcuConfig, EcuNode
 
 from .inputs import wheels
 
-FLOOD_FRAMES = 60_000
+FLOOD_FRAMES = 30_000
 #: what a node may allocate for a flood of any length (bytes): far below one kept frame each
 BOUND_BYTES = 1_000_000
 
