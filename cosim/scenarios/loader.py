@@ -3,13 +3,15 @@
 Unknown keys raise :class:`~cosim.errors.ConfigError` naming the key path
 (``plant.inputs.throtle``) and, for a near miss, the closest valid name
 (:func:`difflib.get_close_matches`). Values are type- and range-checked
-against each field's ``metadata``. ``[ecu]`` parameters other than
-``strategy`` are checked by ``ecu.EcuConfig.from_dict`` when the run starts.
+against each field's ``metadata``. ``[ecu]`` is checked at load, by
+``ecu.EcuConfig.from_dict`` (ranges, and agreement with the DBC, e.g. no
+``cycle_s`` other than the contract's 10 ms); every error names the file.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import datetime as dt
 import difflib
 import math
 import tomllib
@@ -17,6 +19,9 @@ import typing
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Mapping
+
+from can_dbc.contract import ECU_CYCLE_S
+from ecu import EcuConfig
 
 from ..errors import ConfigError
 from .config import (
@@ -86,7 +91,29 @@ def _base_type(hint: Any) -> type:
     return args[0] if args else hint
 
 
+_EARLIEST_START = dt.datetime(1990, 1, 1, tzinfo=dt.timezone.utc)  # BLF headers treat earlier dates as unset
+
+
+def _start_time(value: Any, where: str) -> str:
+    """An offset date-time (TOML or ISO 8601 text) as normalised ISO 8601 text."""
+    expected = "expected an ISO 8601 date-time with a UTC offset such as 2020-01-01T00:00:00Z"
+    if isinstance(value, str):
+        try:
+            value = dt.datetime.fromisoformat(value)
+        except ValueError:
+            raise ConfigError(f"{where}: {expected}, got {value!r}") from None
+    if not isinstance(value, dt.datetime) or value.tzinfo is None:
+        shown = value.isoformat() if isinstance(value, (dt.date, dt.time)) else repr(value)
+        raise ConfigError(f"{where}: {expected}, got {shown} (no offset)" if isinstance(value, dt.datetime)
+                          else f"{where}: {expected}, got {shown}")
+    if not _EARLIEST_START <= value < dt.datetime(2100, 1, 1, tzinfo=dt.timezone.utc):
+        raise ConfigError(f"{where}: expected a date from 1990 to 2099, got {value.isoformat()}")
+    return value.isoformat()
+
+
 def _plain_field(f: dataclasses.Field, hint: Any, value: Any, where: str) -> Any:
+    if f.metadata.get("datetime"):
+        return _start_time(value, where)
     value = _coerce(value, _base_type(hint), where)
     if "range" in f.metadata:
         lo, hi = f.metadata["range"]
@@ -163,6 +190,7 @@ def _section(cls: type, table: Any, path: str) -> Any:
         table = dict(table)
         kwargs = {"strategy": _plain_field(fields["strategy"], str, table.pop("strategy", "tightening"),
                                            f"{path}.strategy")}
+        EcuConfig.from_dict({**table, **kwargs}, where=path)  # refused here, at load, not when a run starts
         return EcuSection(parameters=MappingProxyType(table), **kwargs)
     _check_keys(table, fields, path)
     kwargs: dict[str, Any] = {}
@@ -253,9 +281,9 @@ def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) ->
     _check_initial(plant)
     sections["plant"] = plant
     scen = sections.get("scenario", ScenarioSection())
-    cycles = 0.01 / scen.step_s
+    cycles = ECU_CYCLE_S / scen.step_s
     if abs(cycles - round(cycles)) > 1e-9:
-        raise ConfigError(f"scenario.step_s: expected a divisor of the 0.01 s ECU cycle, got {scen.step_s!r}")
+        raise ConfigError(f"scenario.step_s: expected a divisor of the {ECU_CYCLE_S} s ECU cycle, got {scen.step_s!r}")
     return Scenario(**sections)
 
 
