@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Mapping
 
-STRATEGIES = ("none", "conservative", "tightening")
+STRATEGIES = ("none", "conservative", "tightening", "adaptive")
 ECU_CYCLE_S = 0.01  # the contract's SafetyOverride / DriverInput cycle (DBC GenMsgCycleTime 10 ms)
 OBJECT_TRACK_PERIOD_S = 0.05  # the contract's ObjectTrack cycle (DBC GenMsgCycleTime 50 ms)
 

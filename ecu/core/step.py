@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+from . import decel_estimate
 from .modes import ModeDecision, next_mode, planned_mode
 from .output_gate import gate
 from .params import CoreParams
@@ -43,18 +44,25 @@ class Plan(NamedTuple):
     tightening_restricts: bool
     stopping_distance_m: float
     disjoint: bool
+    #: disjoint with the release margin: a held contingency may end (``contingency_release_ratio``).
+    released: bool
 
 
-def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> Plan:
-    """Tighten the driver's command (if the strategy says so) and check its stopping path."""
+def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams,
+               model_decel_mps2: float | None = None) -> Plan:
+    """Tighten the driver's command (if the strategy says so) and check its stopping path.
+
+    ``model_decel_mps2`` overrides the model deceleration D (``adaptive``: fraction x estimate).
+    """
     valid = inputs.object_valid
     closing_mps = closing_speed_mps(speed_mps, inputs.object_range_rate_mps, params) if valid else 0.0
-    p = proximity(valid, inputs.object_range_m, closing_mps, params)
+    p = proximity(valid, inputs.object_range_m, closing_mps, params, model_decel_mps2)
     tight = tighten(p, params) if params.tightening_enabled else NO_TIGHTENING
     command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), tight.accel_upper_mps2)
-    distance = path_distance_m(speed_mps, command, valid, inputs.object_range_rate_mps, params)
+    distance = path_distance_m(speed_mps, command, valid, inputs.object_range_rate_mps, params, model_decel_mps2)
     return Plan(p, tight.throttle_limit_pct, tight.decel_request_mps2, tight.restricts, distance,
-                is_disjoint(distance, valid, inputs.object_range_m, params))
+                is_disjoint(distance, valid, inputs.object_range_m, params),
+                is_disjoint(distance * params.contingency_release_ratio, valid, inputs.object_range_m, params))
 
 
 def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[float, bool, float, int]:
@@ -74,6 +82,15 @@ def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tup
     )
     speed = update_speed_mps(state.speed_mps, state.speed_initialised, wheels, braking, params)
     return speed, True, mean, since_brake
+
+
+def _next_decel(state: CoreState, inputs: CoreInputs, speed_mps: float,
+                params: CoreParams) -> decel_estimate.DecelEstimate:
+    """The ``adaptive`` estimate after this cycle; unchanged without valid wheel speeds (no evidence)."""
+    if not (params.adaptive_enabled and state.speed_initialised and wheel_speeds_valid(inputs, params)):
+        return state.decel
+    request = max(state.prev_decel_request_mps2, inputs.brake_pedal * params.peak_decel_mps2)
+    return decel_estimate.update(state.decel, state.speed_mps, speed_mps, inputs.wheel_speeds_mps, request, params)
 
 
 def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[float, float]:
@@ -97,12 +114,16 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     """Run one cycle; return the next state and the gated outputs."""
     flags = fault_flags(inputs, params)
     speed, initialised, wheel_mean, since_brake = _next_speed(state, inputs, params)
-    plan = plan_cycle(speed, inputs, params)
+    estimate = _next_decel(state, inputs, speed, params)
+    model_decel = (params.model_decel_fraction * decel_estimate.achievable_decel_mps2(estimate, params)
+                   if params.adaptive_enabled else None)
+    plan = plan_cycle(speed, inputs, params, model_decel)
     contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
         state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
     decision = next_mode(
         flags,
-        planned_mode(plan.disjoint, plan.tightening_restricts),
+        planned_mode(plan.disjoint and (plan.released or state.mode is not _CONTINGENCY),
+                     plan.tightening_restricts),
         state.valid_cycles,
         contingency_active,
         speed <= params.standstill_speed_mps,
@@ -122,6 +143,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
         valid_cycles=decision.valid_cycles,
         held_contingency=decision.held_contingency,
         gate_interventions=state.gate_interventions + gated.interventions,
+        decel=estimate,
     )
     outputs = CoreOutputs(
         mode=gated.mode,

@@ -17,6 +17,8 @@ import math
 from enum import IntEnum
 from typing import NamedTuple
 
+from .decel_estimate import DecelEstimate
+
 NEVER_S = -math.inf
 
 
@@ -72,6 +74,8 @@ class CoreState(NamedTuple):
     #: a contingency active when the fault began, held while faulted.
     held_contingency: bool = False
     gate_interventions: int = 0
+    #: the ``adaptive`` strategy's estimate of the achievable deceleration (:mod:`ecu.core.decel_estimate`).
+    decel: DecelEstimate = DecelEstimate()
 
 
 class CoreOutputs(NamedTuple):
