@@ -134,7 +134,7 @@ def update(estimate: DecelEstimate, prev_speed_mps: float, speed_mps: float,
             at_limit(nxt, request_mps2, params) or measured > current)
     else:  # the driven axle at its traction limit: mu*g ~ accel / load share
         evidence = -measured / params.driven_axle_load_share
-        use = slip_cycles >= params.abs_slip_cycles and evidence < current
+        use = slip_cycles >= params.decel_settle_cycles
     if use:
         current += min(1.0, dt / params.decel_estimate_time_constant_s) * (evidence - current)
     clamped = min(params.peak_decel_mps2, max(params.decel_estimate_floor_mps2, current))

@@ -78,5 +78,5 @@ def test_counter_outside_0_14_raises(counter):
 
 def test_undefined_enum_cannot_be_encoded_past_range():
     with pytest.raises(SignalError):
-        encode("EcuStatus", {"Strategy": 3, "Proximity": 0, "StoppingDistance": 0,
+        encode("EcuStatus", {"Strategy": 4, "Proximity": 0, "StoppingDistance": 0,
                              "SpeedEstimate": 0, "FaultFlags": 0}, 0)
