@@ -27,7 +27,8 @@ def outcome(record) -> str:
 def main() -> None:
     base = load_scenario(PAPER_SCENARIO)
     fmu = resolve_fmu(base)
-    print("| road friction | " + " | ".join(STRATEGIES) + " |\n|---" * (len(STRATEGIES) + 1) + "|")
+    print("| road friction | " + " | ".join(STRATEGIES) + " |")
+    print("|---" * (len(STRATEGIES) + 1) + "|")
     for mu in FRICTIONS:
         sc = dataclasses.replace(base, plant=dataclasses.replace(base.plant, road_friction=mu))
         cells = [outcome(run_scenario(sc, fmu, s)) for s in STRATEGIES]

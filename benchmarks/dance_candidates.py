@@ -12,7 +12,11 @@ Candidates (issue 14):
   gateway's actuation for N ECU cycles (a zero-order hold at 1/(N·10 ms)),
   on top of the radar latency; and by a longer radar latency.
 * ``hold``: a contingency that, once invoked, holds until a release margin is
-  restored (``contingency_release_ratio``, :mod:`ecu.core.step`).
+  restored (``contingency_release_ratio``) or until the car has (nearly)
+  stopped (``contingency_release_speed_mps``), :mod:`ecu.core.step`.
+* the stale range: ``ObjectTrack`` arrives every 50 ms (DBC) and the ECU holds
+  the last range in between; sending it every 10 ms (and without latency)
+  shows how much of the chatter that causes.
 * ``fast``: faster actuators (the issue's measurement: brake dead time
   0.03 s, tau 0.05 s, throttle tau 0.05 s); brakes that release faster than
   they apply are bounded by this case, which is faster in both directions.
@@ -50,6 +54,18 @@ def held_gateway(n_cycles: int) -> type[Gateway]:
             return self._held
 
     return HeldGateway
+
+
+def every_cycle_tracks() -> None:
+    """Send ``ObjectTrack`` every 10 ms instead of the DBC's 50 ms (an experiment on the stale range)."""
+    original = master.ClosedLoop.__init__
+
+    def init(self, *args, **kwargs):
+        original(self, *args, **kwargs)
+        self.n_track = 1
+
+    master.ClosedLoop.__init__ = init
+    return original
 
 
 def variant(base, ecu=None, plant=None, radar_latency_s=None):
@@ -108,8 +124,16 @@ def main() -> None:
     no_lag = {"brake_dead_time": 0.0, "brake_time_constant": 0.02, "throttle_time_constant": 0.05}
     for n in (1, 10):
         report(f"lag-free plant, actuation held {n * 10} ms", variant(base, plant=no_lag), fmu, held_gateway(n))
-    for ratio in (1.1, 1.2, 1.5):
+    for ratio in (1.2, 1.5):
         report(f"hold: release ratio {ratio}", variant(base, ecu={"contingency_release_ratio": ratio}), fmu)
+    report("hold: to standstill (release <= 0.1 m/s)",
+           variant(base, ecu={"contingency_release_speed_mps": 0.1}), fmu)
+    original = every_cycle_tracks()
+    try:
+        report("stale range removed: ObjectTrack every 10 ms", base, fmu)
+        report("... and radar latency 0", variant(base, radar_latency_s=0.0), fmu)
+    finally:
+        master.ClosedLoop.__init__ = original
 
 
 if __name__ == "__main__":

@@ -39,6 +39,7 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
     "proximity_margin_m": (0.0, 250.0, False),
     "contingency_decel_mps2": (0.0, 15.0, False),
     "contingency_release_ratio": (1.0, 10.0, True),
+    "contingency_release_speed_mps": (0.0, 1000.0, True),
     "decel_estimate_floor_mps2": (0.0, 15.0, False),
     "decel_estimate_time_constant_s": _POSITIVE,
     "decel_filter_time_constant_s": _POSITIVE,

@@ -53,6 +53,9 @@ class CoreParams:
     #: a contingency, once invoked, is held until the stopping path is disjoint again with
     #: this factor on its length: ``standoff + ratio * d <= range`` (1.0: no hysteresis).
     contingency_release_ratio: float = 1.0
+    #: ... and only once the speed estimate is at or below this (1000: at any speed; a small
+    #: value holds the contingency to standstill, as AEB functions that reset when the car stops).
+    contingency_release_speed_mps: float = 1000.0
     #: deceleration requested by the contingency: full braking, the DBC's full
     #: scale; the brake ECU saturates it at full pressure (ABS then limits slip).
     contingency_decel_mps2: float = 15.0

@@ -62,7 +62,8 @@ def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams,
     distance = path_distance_m(speed_mps, command, valid, inputs.object_range_rate_mps, params, model_decel_mps2)
     return Plan(p, tight.throttle_limit_pct, tight.decel_request_mps2, tight.restricts, distance,
                 is_disjoint(distance, valid, inputs.object_range_m, params),
-                is_disjoint(distance * params.contingency_release_ratio, valid, inputs.object_range_m, params))
+                speed_mps <= params.contingency_release_speed_mps
+                and is_disjoint(distance * params.contingency_release_ratio, valid, inputs.object_range_m, params))
 
 
 def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[float, bool, float, int]:

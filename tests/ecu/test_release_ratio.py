@@ -5,8 +5,9 @@ from ecu.core import CoreInputs, CoreParams, CoreState, Mode, step
 DT = 0.01
 
 
-def _run(ratio: float, ranges_m: list[float]) -> list[Mode]:
-    params = CoreParams(strategy="none", contingency_release_ratio=ratio)
+def _run(ratio: float, ranges_m: list[float], release_speed_mps: float = 1000.0) -> list[Mode]:
+    params = CoreParams(strategy="none", contingency_release_ratio=ratio,
+                        contingency_release_speed_mps=release_speed_mps)
     state, modes = CoreState(), []
     for k, range_m in enumerate(ranges_m):
         t = k * DT
@@ -25,3 +26,9 @@ def test_ratio_one_releases_as_soon_as_disjoint_and_a_larger_ratio_holds():
     assert plain[19] is Mode.CONTINGENCY and held[19] is Mode.CONTINGENCY
     assert plain[-1] is Mode.STANDBY  # 11 m clears 8 + 2
     assert held[-1] is Mode.CONTINGENCY  # 1.5 x 8 + 2 = 14 m > 11 m: still held
+
+
+def test_release_speed_holds_the_contingency_until_the_car_is_slow_enough():
+    ranges = [100.0] * 15 + [9.0] * 5 + [30.0] * 5
+    assert _run(1.0, ranges)[-1] is Mode.STANDBY
+    assert _run(1.0, ranges, release_speed_mps=0.1)[-1] is Mode.CONTINGENCY  # still 10 m/s
