@@ -10,42 +10,44 @@ ABS holds the braking slip near the peak of the mu-slip curve, about
 0.1-0.3), and the deceleration the car then achieves *is* the achievable
 deceleration. This module turns that into an estimate ``a_hat`` (m/s^2).
 
-Evidence, each cycle with valid wheel speeds, while braking is commanded and
-the estimated speed is at least ``decel_estimate_min_speed_mps`` (below it
-slip ratios and derivatives are meaningless):
+Evidence, each cycle with valid wheel speeds and an estimated speed of at
+least ``decel_estimate_min_speed_mps`` (below it slip ratios and derivatives
+mean little):
 
-* measured deceleration, the speed estimate's derivative through a
-  first-order filter (time constant ``tau_f = decel_filter_time_constant_s``)::
+* measured deceleration ``a_m``: the reference speed's derivative through a
+  first-order filter (``tau_f = decel_filter_time_constant_s``)::
 
       a_m[k] = a_m[k-1] + (dt / tau_f) * ((v[k-1] - v[k]) / dt - a_m[k-1])
 
-* wheel slip of each wheel against the reference speed ``v``::
+* **braking** (our last request or the driver's pedal x peak, ``R > 0``) that
+  has lasted ``decel_settle_cycles`` (the brake's dead time plus its
+  build-up) is *at the road's limit* when ABS is regulating, i.e. the braking
+  slip ``s_i = (v - w_i) / v`` of some wheel has been at or above
+  ``abs_slip_threshold`` for ``abs_slip_cycles`` cycles (a debounce against
+  noisy wheel speeds), or when the car falls short of the request,
+  ``R - a_m >= decel_shortfall_mps2``. The evidence is ``a_m``; below the
+  limit ``a_m`` only counts when it exceeds the estimate (a lower bound);
+* **traction**: not braking, the driven wheels spin at least
+  ``abs_slip_threshold`` faster than the reference for ``decel_settle_cycles``.
+  The driven axle then transmits ``mu * g * share * m``, so the road allows
+  about ``-a_m / driven_axle_load_share`` of braking on all four wheels (the
+  static share; the load moves off the front axle while accelerating, so this
+  errs low, on the safe side).
 
-      s_i = (v - w_i) / v
+Update (first-order, ``tau_e = decel_estimate_time_constant_s``)::
 
-  ABS is taken as active (the tyres at their limit) after
-  ``abs_slip_cycles`` consecutive cycles with ``max_i s_i >= abs_slip_threshold``
-  (a debounce, so one noisy wheel-speed sample is no evidence).
-
-Update (first-order, time constant ``tau_e = decel_estimate_time_constant_s``,
-``alpha = dt / tau_e``)::
-
-    at the limit (ABS active):         a_hat += alpha * (a_m - a_hat)
-    braking below the limit, a_m > a_hat: a_hat += alpha * (a_m - a_hat)   (a lower bound)
-    otherwise:                          a_hat unchanged
+    a_hat += (dt / tau_e) * (evidence - a_hat)
 
 then ``a_hat`` is clamped to ``[decel_estimate_floor_mps2, peak_decel_mps2]``:
 it **never exceeds the configured peak**. Before any evidence it is the
 documented prior ``a_hat = peak_decel_mps2`` (the dry-road value: with no
-evidence the ECU behaves exactly like ``tightening``). Invalid wheel speeds
-leave ``a_hat`` and ``a_m`` unchanged (no evidence is drawn from invalid
-data), so the estimate can only change how hard the ECU brakes on valid data;
-starting to brake still needs valid inputs (:mod:`ecu.core.modes`).
+evidence ``adaptive`` plans exactly like ``tightening``). Invalid wheel
+speeds leave the estimate unchanged (no evidence from invalid data); starting
+to brake still needs valid inputs (:mod:`ecu.core.modes`).
 
-Known limits: the estimate only learns while braking hard enough to reach
-the friction limit (or during its own contingency); a slippery road met for
-the first time is discovered by the first hard braking. Traction slip while
-accelerating and an ESC friction estimate are not used (yet).
+Known limits: a car that neither spins its driven wheels nor brakes hard
+keeps the dry prior, so a slippery road met at constant speed is discovered
+only by the first hard braking. An ESC friction estimate on CAN is not used.
 
 Pure functions; the state is the :class:`DecelEstimate` record carried in
 :class:`ecu.core.types.CoreState`.

@@ -86,12 +86,17 @@ def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tup
 
 
 def _next_decel(state: CoreState, inputs: CoreInputs, speed_mps: float,
-                params: CoreParams) -> decel_estimate.DecelEstimate:
-    """The ``adaptive`` estimate after this cycle; unchanged without valid wheel speeds (no evidence)."""
-    if not (params.adaptive_enabled and state.speed_initialised and wheel_speeds_valid(inputs, params)):
-        return state.decel
-    request = max(state.prev_decel_request_mps2, inputs.brake_pedal * params.peak_decel_mps2)
-    return decel_estimate.update(state.decel, state.speed_mps, speed_mps, inputs.wheel_speeds_mps, request, params)
+                params: CoreParams) -> tuple[decel_estimate.DecelEstimate, float | None]:
+    """``adaptive``: the estimate after this cycle (unchanged without valid wheel speeds: no
+    evidence) and the model deceleration ``fraction * a_hat``; other strategies: (state, None)."""
+    if not params.adaptive_enabled:
+        return state.decel, None
+    estimate = state.decel
+    if state.speed_initialised and wheel_speeds_valid(inputs, params):
+        request = max(state.prev_decel_request_mps2, inputs.brake_pedal * params.peak_decel_mps2)
+        estimate = decel_estimate.update(estimate, state.speed_mps, speed_mps, inputs.wheel_speeds_mps,
+                                         request, params)
+    return estimate, params.model_decel_fraction * decel_estimate.achievable_decel_mps2(estimate, params)
 
 
 def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[float, float]:
@@ -115,9 +120,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     """Run one cycle; return the next state and the gated outputs."""
     flags = fault_flags(inputs, params)
     speed, initialised, wheel_mean, since_brake = _next_speed(state, inputs, params)
-    estimate = _next_decel(state, inputs, speed, params)
-    model_decel = (params.model_decel_fraction * decel_estimate.achievable_decel_mps2(estimate, params)
-                   if params.adaptive_enabled else None)
+    estimate, model_decel = _next_decel(state, inputs, speed, params)
     plan = plan_cycle(speed, inputs, params, model_decel)
     contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
         state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
