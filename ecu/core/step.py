@@ -7,10 +7,14 @@ Order within the cycle:
 2. speed: reference-speed estimate from the wheels if they are valid, else
    held — or dead-reckoned down at the model deceleration while a held
    contingency brakes (:mod:`ecu.core.speed_estimate`);
+   ``adaptive`` only: the achievable-deceleration estimate, from valid wheel
+   speeds only (:mod:`ecu.core.decel_estimate`), sets D for this cycle;
 3. plan: driver intent, proximity and tightening, the stopping path of the
    (tightened) command and its disjointness (:mod:`ecu.core.strategies`,
    :mod:`ecu.core.stopping_path`);
-4. mode: the state machine (:mod:`ecu.core.modes`);
+4. mode: the state machine (:mod:`ecu.core.modes`); a contingency is
+   released only when ``plan.released`` (both hold knobs off by default:
+   ``contingency_release_ratio`` = 1, ``contingency_release_speed_mps`` = 1000);
 5. outputs for the mode, then the output gate (:mod:`ecu.core.output_gate`).
 
 Pure: no I/O, no clock, no logging; the same state and inputs give the same
@@ -73,7 +77,10 @@ def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tup
     if not wheel_speeds_valid(inputs, params):
         speed = state.speed_mps
         if state.held_contingency or state.mode == Mode.CONTINGENCY:
-            speed = coast_down_speed_mps(speed, params.model_decel_mps2, params.cycle_s)
+            decel = params.model_decel_mps2  # adaptive: the road's estimate (below the dry value on wet roads)
+            if params.adaptive_enabled:
+                decel = params.model_decel_fraction * decel_estimate.achievable_decel_mps2(state.decel, params)
+            speed = coast_down_speed_mps(speed, decel, params.cycle_s)
         return speed, state.speed_initialised, state.prev_wheel_mean_mps, since_brake
     wheels = inputs.wheel_speeds_mps
     mean = sum(wheels) / 4.0

@@ -111,3 +111,13 @@ def test_without_evidence_adaptive_plans_exactly_like_tightening():
         s_a, out_a = step(s_a, inputs, PARAMS)
         s_t, out_t = step(s_t, inputs, tight)
         assert out_a == out_t
+
+
+def test_a_held_contingency_dead_reckons_with_the_estimate_not_the_dry_peak():
+    wet = DecelEstimate(achievable_mps2=4.0)
+    state = CoreState(mode=Mode.CONTINGENCY, speed_mps=10.0, speed_initialised=True, decel=wet,
+                      prev_decel_request_mps2=15.0, valid_cycles=10)
+    stale = CoreInputs(t_s=1.0, wheel_speeds_mps=(10.0,) * 4, wheel_rx_t_s=0.0, driver_rx_t_s=1.0,
+                       object_rx_t_s=1.0)
+    state, out = step(state, stale, PARAMS)
+    assert out.speed_estimate_mps == pytest.approx(10.0 - 0.9 * 4.0 * DT)
