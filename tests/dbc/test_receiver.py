@@ -95,7 +95,9 @@ def test_undefined_enum_rejected():
     table = tuple(row[:9] + (frozenset({0, 1, 2}),) if row[0] == "Strategy" else row for row in layout.unpack_table)
     old_layout = dataclasses.replace(layout, unpack_table=table)
     msg = encode("EcuStatus", {"Strategy": 3, "Proximity": 0, "StoppingDistance": 0,
-                               "SpeedEstimate": 0, "FaultFlags": 0}, 0)
+                               "SpeedEstimate": 0, "FaultWheelSpeedTimeout": 0,
+                               "FaultDriverInputTimeout": 0, "FaultObjectTimeout": 0, "FaultE2E": 0,
+                               "FaultInternal": 0}, 0)
     with pytest.raises(EnumError, match="Strategy"):
         _decode(old_layout, int.from_bytes(msg.data, "little"))
     assert Receiver().check(msg).signals["Strategy"] == 3  # declared now: accepted
