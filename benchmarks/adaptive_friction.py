@@ -3,12 +3,14 @@
 Run: ``python benchmarks/adaptive_friction.py``. The paper scenario with the
 plant's ``road_friction`` changed, one ECU parameter set for every row; prints
 a Markdown table: outcome per strategy (collision and relative impact speed, or
-the final gap and the time the car first comes to rest).
+the final gap and the time the car first comes to rest); then a CCRs-like run
+at 45 km/h (a constant-speed approach, which gives no traction evidence).
 """
 
 from __future__ import annotations
 
 import dataclasses
+from types import MappingProxyType
 
 from cosim.cli.paper import PAPER_SCENARIO
 from cosim.loop.experiment import resolve_fmu
@@ -33,15 +35,33 @@ def outcome(record) -> str:
     return f"stops {m.final_gap_m:.1f} m short at {stop_time_s(record):.2f} s"
 
 
+def ccrs(base, speed_mps: float, mu: float):
+    """A UN R152 / Euro NCAP CCRs-like run: cruising at ``speed_mps`` from the start (plant ``v0``)
+    toward a stationary car target (ISO 19206-3 length 4.023 m) 60 m ahead."""
+    plant = dataclasses.replace(base.plant, road_friction=mu,
+                                parameters=MappingProxyType(dict(base.plant.parameters) | {"v0": speed_mps}))
+    driver = dataclasses.replace(base.driver, model="cruise", set_speed_mps=speed_mps)
+    obj = dataclasses.replace(base.object, position_m=60.0, length_m=4.023)
+    scenario = dataclasses.replace(base.scenario, duration_s=15.0)
+    return dataclasses.replace(base, scenario=scenario, plant=plant, driver=driver, object=obj)
+
+
+def table(title: str, rows) -> None:
+    print(f"| {title} | " + " | ".join(STRATEGIES) + " |")
+    print("|---" * (len(STRATEGIES) + 1) + "|")
+    for label, sc, fmu in rows:
+        cells = [outcome(run_scenario(sc, fmu, s)) for s in STRATEGIES]
+        print(f"| {label} | " + " | ".join(cells) + " |", flush=True)
+    print()
+
+
 def main() -> None:
     base = load_scenario(PAPER_SCENARIO)
     fmu = resolve_fmu(base)
-    print("| road friction | " + " | ".join(STRATEGIES) + " |")
-    print("|---" * (len(STRATEGIES) + 1) + "|")
-    for mu in FRICTIONS:
-        sc = dataclasses.replace(base, plant=dataclasses.replace(base.plant, road_friction=mu))
-        cells = [outcome(run_scenario(sc, fmu, s)) for s in STRATEGIES]
-        print(f"| {mu} | " + " | ".join(cells) + " |", flush=True)
+    table("paper scenario, road friction", [
+        (mu, dataclasses.replace(base, plant=dataclasses.replace(base.plant, road_friction=mu)), fmu)
+        for mu in FRICTIONS])
+    table("CCRs-like, cruising at 45 km/h", [(f"mu {mu}", ccrs(base, 12.5, mu), fmu) for mu in (1.0, 0.5)])
 
 
 if __name__ == "__main__":
