@@ -22,3 +22,13 @@ def test_crd_paper_states_every_claim(tmp_path, capsys):
     assert all(line.startswith("[PASS]") for line in gating), out  # the reproduction's goal: claims 1-5 hold
     # claim 3 judged from the speed trace (issue 14) is reported beside them; not met yet (README)
     assert "claim 3s (reported, issue 14)" in out
+
+
+@pytest.mark.slow
+def test_crd_paper_with_adaptive_shows_it_beside_the_three(tmp_path, capsys):
+    code = crd(["paper", "--with-adaptive", "--out", str(tmp_path)])
+    out = capsys.readouterr().out
+    runs = {r["strategy"]: r for r in json.loads((tmp_path / "metrics.json").read_text())["runs"]}
+    assert set(runs) == {"none", "conservative", "tightening", "adaptive"}
+    assert not runs["adaptive"]["collided"]
+    assert code == 0 and out.count("[PASS] claim") == 5  # the claims concern the paper's three
