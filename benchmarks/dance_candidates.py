@@ -18,8 +18,8 @@ Candidates (issue 14):
   the last range in between; sending it every 10 ms (and without latency)
   shows how much of the chatter that causes.
 * ``fast``: faster actuators (the issue's measurement: brake dead time
-  0.03 s, tau 0.05 s, throttle tau 0.05 s); brakes that release faster than
-  they apply are bounded by this case, which is faster in both directions.
+  0.03 s, tau 0.05 s, throttle tau 0.05 s), faster in both directions; brakes
+  that only release faster would need a plant change and are not tried.
 * the driver re-applying throttle: the paper's driver already holds full
   throttle at every release (``full_throttle``), so there is nothing to add.
 """
