@@ -30,6 +30,8 @@ from . import decel_estimate
 from .modes import ModeDecision, next_mode, planned_mode
 from .output_gate import gate
 from .params import CoreParams
+from .relative_stop import is_moving, moving_proximity, relative_approach_m, relative_disjoint
+from .relevance import in_path
 from .speed_estimate import coast_down_speed_mps, update_speed_mps
 from .stopping_path import closing_speed_mps, is_disjoint, path_distance_m
 from .strategies import NO_TIGHTENING, driver_accel_mps2, proximity, tighten
@@ -56,9 +58,13 @@ def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams,
                model_decel_mps2: float | None = None) -> Plan:
     """Tighten the driver's command (if the strategy says so) and check its stopping path.
 
-    ``model_decel_mps2`` overrides the model deceleration D (``adaptive``: fraction x estimate).
+    An object outside our path is no object (:mod:`ecu.core.relevance`); a moving one is
+    planned at zero relative speed (:mod:`ecu.core.relative_stop`). ``model_decel_mps2``
+    overrides the model deceleration D (``adaptive``: fraction x estimate).
     """
-    valid = inputs.object_valid
+    valid = inputs.object_valid and in_path(inputs.object_lateral_m, params)
+    if valid and is_moving(speed_mps, inputs.object_range_rate_mps, params):
+        return _plan_moving(speed_mps, inputs, params, model_decel_mps2)
     closing_mps = closing_speed_mps(speed_mps, inputs.object_range_rate_mps, params) if valid else 0.0
     p = proximity(valid, inputs.object_range_m, closing_mps, params, model_decel_mps2)
     tight = tighten(p, params) if params.tightening_enabled else NO_TIGHTENING
@@ -68,6 +74,20 @@ def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams,
                 is_disjoint(distance, valid, inputs.object_range_m, params),
                 speed_mps <= params.contingency_release_speed_mps
                 and is_disjoint(distance * params.contingency_release_ratio, valid, inputs.object_range_m, params))
+
+
+def _plan_moving(speed_mps: float, inputs: CoreInputs, params: CoreParams,
+                 model_decel_mps2: float | None) -> Plan:
+    """:func:`plan_cycle` behind a moving object: relative approach, time-scaled proximity."""
+    rate = inputs.object_range_rate_mps
+    p = moving_proximity(inputs.object_range_m, rate, params, model_decel_mps2)
+    tight = tighten(p, params) if params.tightening_enabled else NO_TIGHTENING
+    command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), tight.accel_upper_mps2)
+    approach = relative_approach_m(rate, command, params, model_decel_mps2)
+    disjoint = relative_disjoint(approach, inputs.object_range_m, params)
+    return Plan(p, tight.throttle_limit_pct, tight.decel_request_mps2, tight.restricts, approach, disjoint,
+                speed_mps <= params.contingency_release_speed_mps
+                and relative_disjoint(approach * params.contingency_release_ratio, inputs.object_range_m, params))
 
 
 def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[float, bool, float, int]:
