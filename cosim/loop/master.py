@@ -54,7 +54,7 @@ from ..world.driver_models import make_driver
 from ..link.ecu_link import EcuOptions, open_link
 from ..errors import FmiStepError
 from ..world.gateway import Actuation, Gateway
-from ..world.plant_fmu import FmuPlant, PlantSample
+from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, FmuPlant, PlantSample
 from ..world.radar_model import RadarModel
 from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
 from ..scenarios.config import ECU_CYCLE_S, OBJECT_TRACK_PERIOD_S, Scenario
@@ -107,6 +107,9 @@ class ClosedLoop:
         self._cost = dict.fromkeys(PHASES, 0) if profile else None
         self.plant = FmuPlant(scenario.plant, fmu_path)
         self.record.fmu_path, self.record.fmu_sha256 = str(fmu_path), self.plant.sha256
+        if not self.plant.wheel_speeds_mapped:
+            self.record.events.append(RunEvent(0.0, "warning", DERIVED_WHEEL_SPEEDS))
+            log.warning("%s: %s", self.strategy, DERIVED_WHEEL_SPEEDS)
         self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
         try:
             self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S)

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .report import Verdict, fmt
 from .run_record import RunRecord
 from .speed_dance import DROP_MPS, RISE_MPS, speed_dance
 
@@ -112,18 +113,19 @@ def evaluate(records: list[RunRecord]) -> list[Claim]:
     inv = {s: by[s].metrics.contingency_invocations for s in REQUIRED}
     return [
         Claim("1", "none collides with the cyclist", none.collided,
-              f"collided={none.collided}, impact {none.impact_speed_mps} m/s"),
+              f"collided={none.collided}, impact {fmt(none.impact_speed_mps, unit='m/s')}"),
         Claim("2", "conservative and tightening stop short of the cyclist",
               not cons.collided and not tight.collided,
-              f"conservative collided={cons.collided}, final gap {cons.final_gap_m}; "
-              f"tightening collided={tight.collided}, final gap {tight.final_gap_m}"),
+              f"conservative collided={cons.collided}, final gap {fmt(cons.final_gap_m, unit='m')}; "
+              f"tightening collided={tight.collided}, final gap {fmt(tight.final_gap_m, unit='m')}"),
         Claim("3", f"none and conservative dance: >= {DANCE_MIN_INVOCATIONS} contingency invocations each",
               inv["none"] >= DANCE_MIN_INVOCATIONS and inv["conservative"] >= DANCE_MIN_INVOCATIONS,
               f"invocations: none {inv['none']}, conservative {inv['conservative']} (tightening {inv['tightening']})"),
         _claim4(by["conservative"], by["tightening"]),
         Claim("5", "tightening ends farther from the cyclist than conservative",
               cons.final_gap_m is not None and tight.final_gap_m is not None and tight.final_gap_m > cons.final_gap_m,
-              f"final gap: tightening {tight.final_gap_m}, conservative {cons.final_gap_m}"),
+              f"final gap: tightening {fmt(tight.final_gap_m, unit='m')},"
+              f" conservative {fmt(cons.final_gap_m, unit='m')}"),
     ]
 
 
@@ -136,3 +138,12 @@ def speed_trace_dance(records: list[RunRecord]) -> Claim:
                        f"{max(d.rises_mps, default=0.0):.2f} m/s" for s, d in found.items())
     return Claim("3s", f"speed trace: none and conservative show >= {DANCE_MIN_DECELERATIONS} separate decelerations"
                  f" (falls >= {DROP_MPS} m/s, recoveries >= {RISE_MPS} m/s between)", ok, detail)
+
+
+def verdicts(records: list[RunRecord]) -> tuple[str, list[Verdict]]:
+    """The claims for ``report.md``."""
+    trace = speed_trace_dance(records)
+    return "The paper's claims", [Verdict(f"claim {c.number}: {c.text}", c.passed, c.detail)
+                                  for c in evaluate(records)] + [
+        Verdict(f"claim {trace.number} (reported, issue 14; not part of the exit code): {trace.text}",
+                trace.passed, trace.detail)]
