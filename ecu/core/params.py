@@ -13,15 +13,19 @@ table lookups:
     model_decel_mps2 = fraction(strategy) * peak_decel_mps2
 
 Range checks live in :mod:`ecu.config` (the one loader); the core trusts its
-parameters.
+parameters. Defaults that are facts of the CAN contract (the cycle, the
+reception timeouts, the full-scale deceleration request) are read from the
+DBC through :mod:`can_dbc.contract`; the loader refuses values that contradict it.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-#: strategy name -> the DBC enumeration value of ``EcuStatus.Strategy``.
-STRATEGIES: dict[str, int] = {"none": 0, "conservative": 1, "tightening": 2, "adaptive": 3}
+from can_dbc.contract import BRAKE_DECEL_MAX_MPS2, ECU_CYCLE_S, STRATEGY_CODES, timeout_s
+
+#: strategy name -> the DBC enumeration value of ``EcuStatus.Strategy`` (its ``VAL_``, lower case).
+STRATEGIES = STRATEGY_CODES
 #: driven axle name -> wheel indices (FL, FR, RL, RR order) of the *non-driven* wheels.
 NON_DRIVEN_WHEELS: dict[str, tuple[int, ...]] = {
     "front": (2, 3),
@@ -35,7 +39,7 @@ class CoreParams:
     """Everything the core's arithmetic depends on (defaults are the lead's starting values)."""
 
     strategy: str = "tightening"
-    cycle_s: float = 0.01
+    cycle_s: float = ECU_CYCLE_S
     #: declared delay from our frame to the brake/powertrain acting on it.
     actuation_latency_s: float = 0.1
     #: peak achievable deceleration of the vehicle on dry road.
@@ -58,7 +62,7 @@ class CoreParams:
     contingency_release_speed_mps: float = 1000.0
     #: deceleration requested by the contingency: full braking, the DBC's full
     #: scale; the brake ECU saturates it at full pressure (ABS then limits slip).
-    contingency_decel_mps2: float = 15.0
+    contingency_decel_mps2: float = BRAKE_DECEL_MAX_MPS2
     #: ``adaptive`` (our extension, :mod:`ecu.core.decel_estimate`): the estimate never drops below this.
     decel_estimate_floor_mps2: float = 1.0
     #: time constant of the estimate's first-order update while there is evidence.
@@ -103,9 +107,9 @@ class CoreParams:
     #: time at the closing speed, capped at proximity_margin_m, floored at proximity_margin_min_m.
     proximity_time_s: float = 1.0
     proximity_margin_min_m: float = 1.0
-    wheel_speeds_timeout_s: float = 0.05
-    driver_input_timeout_s: float = 0.05
-    object_timeout_s: float = 0.25
+    wheel_speeds_timeout_s: float = timeout_s("WheelSpeeds")
+    driver_input_timeout_s: float = timeout_s("DriverInput")
+    object_timeout_s: float = timeout_s("ObjectTrack")
     #: an input is invalid while its E2E validity score (can_dbc) is at or above this.
     e2e_invalid_score: int = 5
     #: consecutive all-valid cycles needed to leave FAULT (also at start-up).

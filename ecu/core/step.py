@@ -50,7 +50,8 @@ class Plan(NamedTuple):
     tightening_restricts: bool
     stopping_distance_m: float
     disjoint: bool
-    #: disjoint with the release margin: a held contingency may end (``contingency_release_ratio``).
+    #: disjoint with the release margin (``contingency_release_ratio`` >= 1, so released implies
+    #: disjoint) and slow enough: a contingency that was active may end.
     released: bool
 
 
@@ -151,15 +152,9 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     plan = plan_cycle(speed, inputs, params, model_decel)
     contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
         state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
-    decision = next_mode(
-        flags,
-        planned_mode(plan.disjoint and (plan.released or state.mode is not _CONTINGENCY),
-                     plan.tightening_restricts),
-        state.valid_cycles,
-        contingency_active,
-        speed <= params.standstill_speed_mps,
-        params,
-    )
+    planned = planned_mode(plan.released if state.mode is _CONTINGENCY else plan.disjoint, plan.tightening_restricts)
+    decision = next_mode(flags, planned, state.valid_cycles, contingency_active,
+                         speed <= params.standstill_speed_mps, params)
     throttle, decel = _commands(decision, plan, params)
     gated = gate(decision.mode, throttle, decel)
     if gated.interventions:
