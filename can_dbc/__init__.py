@@ -9,8 +9,11 @@ validity score per message. See ``docs/CONTRACTS.md``.
 from .codec import encode, encode_payload
 from .counter import COUNTER_MODULUS, CounterSequence
 from .crc import crc8_j1850, e2e_p01_crc
-from .database import DATABASE, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_time_s, signal_layout
+from .database import AUTHENTICATORS, DATABASE, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_time_s, signal_layout
 from .errors import (
+    AuthError,
+    FreshnessError,
+    KeyFileError,
     ChecksumError,
     CounterError,
     DecodeError,
@@ -21,9 +24,12 @@ from .errors import (
     SignalError,
     UnknownFrame,
 )
-from .receiver import Frame, Receiver
+from .receiver import RX_RATE, RX_SEQUENCE, SYNC_FRAMES, Frame, Receiver
+from .secoc import SecOcSender, SecOcVerifier, generate_key, load_key_file, write_key_file
 
 __all__ = [
+    "AUTHENTICATORS", "AuthError", "FreshnessError", "KeyFileError", "RX_RATE", "RX_SEQUENCE", "SYNC_FRAMES",
+    "SecOcSender", "SecOcVerifier", "generate_key", "load_key_file", "write_key_file",
     "COUNTER_MODULUS", "DATABASE", "DBC_PATH", "LAYOUTS", "LAYOUTS_BY_ID",
     "ChecksumError", "CounterError", "CounterSequence", "DecodeError", "EnumError",
     "Frame", "FrameError", "LengthError", "RangeError", "Receiver", "SignalError",

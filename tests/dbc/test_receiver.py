@@ -4,6 +4,7 @@ import can
 import pytest
 
 from can_dbc import (
+    RX_SEQUENCE,
     ChecksumError, CounterError, EnumError, LengthError, RangeError, Receiver,
     UnknownFrame, encode, e2e_p01_crc,
 )
@@ -60,7 +61,13 @@ def test_counter_sequence_repeat_and_jump():
     assert rx.receive(_frame(2)) is None
     with pytest.raises(CounterError, match="expected counter 3"):
         rx.check(_frame(6))  # a jump of 4
-    assert rx.check(_frame(7)).fresh  # resynchronised after the jump
+    # after a sequence error the frames are checked but not used until SYNC_FRAMES (3) in a row step by 1
+    assert rx.rx_flags("DriverInput", 0.0) & RX_SEQUENCE
+    frame = rx.check(_frame(7))
+    assert frame.fresh and not frame.synced
+    assert rx.receive(_frame(8)) is None
+    assert rx.receive(_frame(9)).counter == 9  # third in a row: in sync again
+    assert rx.rx_flags("DriverInput", 0.0) == 0
 
 
 def test_counter_wraps_14_to_0():
@@ -86,7 +93,9 @@ def test_range_violation_rejected():
 
 def test_undefined_enum_rejected():
     msg = encode("EcuStatus", {"Strategy": 0, "Proximity": 0, "StoppingDistance": 0,
-                               "SpeedEstimate": 0, "FaultFlags": 0}, 0)
+                               "SpeedEstimate": 0, "FaultFlags": 0,
+                               **{f"Fault{n}": 0 for n in ("Rate", "WheelSlip", "SpeedRadar", "Pedals", "Clock",
+                                                           "Auth", "ForeignOverride", "Sequence")}}, 0)
     # Strategy raw 3 is within the 2-bit field but not declared (and outside the DBC max 2).
     bad = _resealed(msg, lambda d: d.__setitem__(1, d[1] | 0x30))
     with pytest.raises((EnumError, RangeError)):
