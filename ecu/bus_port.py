@@ -19,7 +19,7 @@ import can
 from can_dbc import Frame, Receiver, encode
 
 from .core import CoreInputs, CoreOutputs
-from .core.types import NEVER_S
+from .core.types import NAMED_FAULT_SIGNALS, NEVER_S
 
 KMH_PER_MPS = 3.6
 PERCENT = 100.0
@@ -111,4 +111,5 @@ def status_message(outputs: CoreOutputs, strategy_code: int, counter: int) -> ca
         "StoppingDistance": _clamped(outputs.stopping_distance_m, 0.0, 500.0),
         "SpeedEstimate": _clamped(outputs.speed_estimate_mps, 0.0, 100.0),
         "FaultFlags": outputs.fault_flags & 0x1F,
+        **{name: (outputs.fault_flags >> bit) & 1 for bit, name in NAMED_FAULT_SIGNALS.items()},
     }, counter=counter)

@@ -48,6 +48,10 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
     "e2e_invalid_score": (1, 5, True),
     "fault_recovery_cycles": (1, 100_000, True),
     "status_period_cycles": (1, 100_000, True),
+    "wheel_slip_abs_mps": (0.0, 100.0, True),
+    "wheel_slip_fraction": (0.0, 1.0, True),
+    "radar_speed_tolerance_mps": (0.0, 100.0, True),
+    "pedal_conflict_fraction": (0.0, 1.0, True),
 }
 _CHOICES: dict[str, tuple[str, ...]] = {
     "strategy": tuple(STRATEGIES),

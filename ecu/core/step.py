@@ -28,7 +28,9 @@ from .params import CoreParams
 from .speed_estimate import coast_down_speed_mps, update_speed_mps
 from .stopping_path import closing_speed_mps, is_disjoint, path_distance_m
 from .strategies import NO_TIGHTENING, driver_accel_mps2, proximity, tighten
-from .types import CoreInputs, CoreOutputs, CoreState, FaultFlag, Mode
+from .degraded import degraded_brake, radar_closing_speed_mps
+from .plausibility import braking_now, input_health, speed_radar_implausible
+from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag, Mode
 from .validity import fault_flags, wheel_speeds_valid
 
 _STANDBY, _TIGHTENING, _CONTINGENCY, _FAULT = Mode.STANDBY, Mode.TIGHTENING, Mode.CONTINGENCY, Mode.FAULT
@@ -57,11 +59,12 @@ def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> Plan
                 is_disjoint(distance, valid, inputs.object_range_m, params))
 
 
-def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[float, bool, float, int]:
+def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams,
+                wheels_ok: bool = True) -> tuple[float, bool, float, int]:
     """(speed estimate, initialised, wheel mean, cycles since braking) after this cycle."""
     commanded = inputs.brake_pedal > 0.0 or state.prev_decel_request_mps2 > 0.0
     since_brake = 0 if commanded else min(state.cycles_since_brake + 1, 1_000_000)
-    if not wheel_speeds_valid(inputs, params):
+    if not (wheels_ok and wheel_speeds_valid(inputs, params)):
         speed = state.speed_mps
         if state.held_contingency or state.mode == Mode.CONTINGENCY:
             speed = coast_down_speed_mps(speed, params.model_decel_mps2, params.cycle_s)
@@ -95,20 +98,30 @@ def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[f
 
 def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[CoreState, CoreOutputs]:
     """Run one cycle; return the next state and the gated outputs."""
-    flags = fault_flags(inputs, params)
-    speed, initialised, wheel_mean, since_brake = _next_speed(state, inputs, params)
+    health = input_health(inputs, braking_now(state, inputs, params), params)
+    flags = fault_flags(inputs, params) | health.flags
+    speed, initialised, wheel_mean, since_brake = _next_speed(state, inputs, params, health.wheels_ok)
+    wheels_ok = health.wheels_ok and wheel_speeds_valid(inputs, params)
+    if wheels_ok and speed_radar_implausible(speed, inputs, params):
+        flags |= 1 << FaultFlag.SPEED_RADAR
+        wheels_ok = False
+    fault = flags & ~REPORT_ONLY_FLAGS
     plan = plan_cycle(speed, inputs, params)
     contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
         state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
+    stop_speed = speed if wheels_ok else max(speed, radar_closing_speed_mps(inputs) if inputs.object_valid else 0.0)
     decision = next_mode(
-        flags,
+        fault,
         planned_mode(plan.disjoint, plan.tightening_restricts),
         state.valid_cycles,
         contingency_active,
-        speed <= params.standstill_speed_mps,
+        stop_speed <= params.standstill_speed_mps,
         params,
     )
     throttle, decel = _commands(decision, plan, params)
+    if fault and decel < params.contingency_decel_mps2 and degraded_brake(
+            speed, wheels_ok, health.driver_ok, inputs, flags, params):
+        decel = params.contingency_decel_mps2  # degraded mode (ecu.core.degraded)
     gated = gate(decision.mode, throttle, decel)
     if gated.interventions:
         flags |= 1 << FaultFlag.INTERNAL

@@ -1,0 +1,68 @@
+"""Degraded mode: a FAULT that still sees the obstacle it has valid data about (issue 15).
+
+Before, any invalid input meant FAULT: throttle limit 0 and no new braking.
+An attacker who invalidated the wheel speeds (a flood, forged values) thus
+made the car coast into the obstacle (issue 15, finding 1: 16.5 m/s). Now,
+in FAULT, the stopping path is still checked with whatever remains valid,
+and the contingency (full braking, held until standstill) is invoked when it
+is not disjoint:
+
+* the object track must be usable: not timed out, E2E score below the
+  limit, no rate or sequence fault, and the clock plausible. Without it
+  there is nothing to brake for, and no braking is started (as before);
+* speed: the wheel-speed estimate if the wheels are usable and agree with
+  the radar; otherwise the radar's closing speed ``v_c = max(0, -range_rate)``
+  toward the object, stopping to zero *relative* speed (the object keeps its
+  speed). For a stationary object this is exactly our own speed, and for an
+  object moving away it is the speed that must reach zero to avoid it;
+* command held for ``t_h``: the driver's (``a_drv``) if the driver input is
+  usable, else a fully pressed accelerator (``driver_max_accel``), the worst
+  case the throttle limit of 0 % bounds after the powertrain's lag;
+* braking at ``D = model_decel``; not disjoint iff ``d + standoff > range``
+  (:mod:`ecu.core.stopping_path`).
+
+Throttle stays withheld in FAULT (limit 0 %). Mode reported: FAULT with
+``BrakeDecelRequest`` = the contingency's deceleration. An attack on one
+input thus never blinds the ECU to an obstacle it still sees through valid
+data, and braking is only ever started from valid radar data.
+"""
+
+from __future__ import annotations
+
+from .params import CoreParams
+from .stopping_path import closing_speed_mps, stopping_distance_m
+from .strategies import driver_accel_mps2
+from .types import CoreInputs, FaultFlag
+
+_EPS_S = 1e-6
+_OBJECT_BAD = (1 << FaultFlag.RATE) | (1 << FaultFlag.SEQUENCE)
+
+
+def object_usable(inputs: CoreInputs, flags: int, params: CoreParams) -> bool:
+    """The object track is fresh, E2E-valid, in rate and sequence, and the clock is plausible."""
+    return (
+        inputs.t_s - inputs.object_rx_t_s <= params.object_timeout_s + _EPS_S
+        and inputs.object_e2e_score < params.e2e_invalid_score
+        and not inputs.object_rx_flags & _OBJECT_BAD
+        and not flags & (1 << FaultFlag.CLOCK)
+    )
+
+
+def radar_closing_speed_mps(inputs: CoreInputs) -> float:
+    """The radar's closing speed toward the object (m/s), 0 when it moves away."""
+    return max(0.0, -inputs.object_range_rate_mps)
+
+
+def degraded_brake(speed_mps: float, wheels_ok: bool, driver_ok: bool, inputs: CoreInputs,
+                   flags: int, params: CoreParams) -> bool:
+    """Whether the degraded check invokes the contingency this cycle (see the module doc)."""
+    if not (inputs.object_valid and object_usable(inputs, flags, params)):
+        return False
+    if wheels_ok:
+        v = closing_speed_mps(speed_mps, inputs.object_range_rate_mps, params)
+    else:
+        v = radar_closing_speed_mps(inputs)
+    a = driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params) if driver_ok \
+        else params.driver_max_accel_mps2
+    d = stopping_distance_m(v, a, params.hold_time_s, params.model_decel_mps2)
+    return d + params.standoff_m > inputs.object_range_m
