@@ -47,6 +47,7 @@ import can
 from cryptography.hazmat.primitives.ciphers import algorithms
 from cryptography.hazmat.primitives.cmac import CMAC
 
+from .codec import ContractMessage
 from .database import AUTHENTICATORS, LAYOUTS
 from .errors import AuthError, FreshnessError, KeyFileError
 
@@ -125,8 +126,8 @@ class SecOcSender(_Mac):
         auth_id = AUTH_ID_OF[data_id]
         fv = self._fv.get(data_id, 0)
         self._fv[data_id] = fv + 1
-        payload = (fv & _FV_MASK).to_bytes(2, "little") + self.mac(data_id, msg.data, fv)
-        return can.Message(arbitration_id=auth_id, is_extended_id=False, dlc=8, data=payload)
+        payload = bytearray((fv & _FV_MASK).to_bytes(2, "little") + self.mac(data_id, msg.data, fv))
+        return ContractMessage(arbitration_id=auth_id, is_extended_id=False, dlc=8, data=payload, check=False)
 
 
 class SecOcVerifier(_Mac):

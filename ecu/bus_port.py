@@ -16,16 +16,19 @@ from typing import Callable
 
 import can
 
-from can_dbc import Frame, Receiver, encode
+from can_dbc import RX_RATE, RX_SEQUENCE, Frame, Receiver, encode
 
 from .core import CoreInputs, CoreOutputs
-from .core.types import NAMED_FAULT_SIGNALS, NEVER_S
+from .core.types import NAMED_FAULT_SIGNALS, NEVER_S, FaultFlag
 
 KMH_PER_MPS = 3.6
 PERCENT = 100.0
 #: messages the ECU consumes (the SimClock paces sim-time mode only).
 INPUT_MESSAGES = ("WheelSpeeds", "DriverInput", "ObjectTrack")
 SIM_CLOCK = "SimClock"
+#: can_dbc.Receiver.rx_flags value -> the core's FaultFlag bits
+_RX_FAULTS = tuple((RX_RATE & v and 1 << FaultFlag.RATE) | (RX_SEQUENCE & v and 1 << FaultFlag.SEQUENCE)
+                   for v in range(4))
 
 
 class InputLatch:
@@ -69,9 +72,10 @@ class InputLatch:
         self.object_range_m = s["ObjectRange"]
         self.object_range_rate_mps = s["ObjectRangeRate"]
 
-    def inputs(self, t_s: float, receiver: Receiver) -> CoreInputs:
-        """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores."""
+    def inputs(self, t_s: float, receiver: Receiver, node_flags: int = 0) -> CoreInputs:
+        """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores and rate/sequence flags."""
         rx = self.rx_t_s
+        rx_flags = receiver.rx_flags
         return CoreInputs(
             t_s=t_s,
             wheel_speeds_mps=self.wheel_speeds_mps,
@@ -86,6 +90,10 @@ class InputLatch:
             wheel_e2e_score=receiver.score("WheelSpeeds"),
             driver_e2e_score=receiver.score("DriverInput"),
             object_e2e_score=receiver.score("ObjectTrack"),
+            wheel_rx_flags=_RX_FAULTS[rx_flags("WheelSpeeds", t_s)],
+            driver_rx_flags=_RX_FAULTS[rx_flags("DriverInput", t_s)],
+            object_rx_flags=_RX_FAULTS[rx_flags("ObjectTrack", t_s)],
+            node_flags=node_flags,
         )
 
 

@@ -68,6 +68,8 @@ class EcuConfig(CoreParams):
     status_period_cycles: int = 10
     #: run() performs one cycle per received ``SimClock`` frame instead of on the wall clock.
     sim_time: bool = False
+    #: SecOC key file (32 hex digits, mode 0600; ``can_dbc.secoc``); empty: E2E protection only.
+    key_file: str = ""
 
     def __post_init__(self) -> None:
         _validate(self, "ecu")

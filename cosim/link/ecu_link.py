@@ -30,10 +30,19 @@ for ``reply_timeout_s`` (real time), or a bus error after which the spawned
 process is dead or no peer is left, records an ``ecu_lost`` event; the master
 then stops waiting and the gateway's ``SafetyOverride`` timeout returns the
 plant to the driver's commands. Nothing waits without a bound.
+
+Authentication (issue 15, :mod:`can_dbc.secoc`): :func:`run_key` picks the
+run's SecOC key: ``key_file`` (``--key-file``) or the ECU config's
+``key_file``; otherwise, in process and for a spawned ECU, a fresh random key
+per run (written, mode 0600, into the run's private 0700 directory for the
+child); ``attach`` without a key file, or ``authenticate=False``, runs with
+E2E protection only. The master then sends each input and ``SimClock`` with
+its authenticator frame, and waits for ``SafetyOverride``'s authenticator too.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import logging
 import os
@@ -46,7 +55,8 @@ from pathlib import Path
 
 import can
 
-from can_dbc import LAYOUTS, CounterSequence, encode
+from can_dbc import AUTHENTICATORS, LAYOUTS, CounterSequence, SecOcSender, encode, generate_key, load_key_file
+from can_dbc import write_key_file
 from ecu import EcuConfig, EcuNode, Percentiles
 
 from .ecu_process import EcuProcess
@@ -58,6 +68,7 @@ log = logging.getLogger(__name__)
 ECU_MODES = ("inprocess", "process", "attach")
 OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
 STATUS_ID = LAYOUTS["EcuStatus"].frame_id
+OVERRIDE_AUTH_ID = AUTHENTICATORS["SafetyOverride"]
 _channels = itertools.count()
 _POLL_S = 0.005
 
@@ -78,6 +89,10 @@ class EcuOptions:
     join_timeout_s: float = 10.0
     reply_timeout_s: float = 1.0
     stop_timeout_s: float = 5.0
+    #: SecOC key file shared with the ECU; None: the ECU config's, else a fresh key (see run_key)
+    key_file: str | None = None
+    #: False: E2E protection only (no SecOC), unless a key file is named
+    authenticate: bool = True
 
     def __post_init__(self) -> None:
         if self.interface is None:
@@ -95,16 +110,26 @@ class EcuOptions:
                 raise EcuLinkError(f"{name}: expected > 0 s, got {getattr(self, name)!r}")
 
 
+def run_key(options: EcuOptions, config: EcuConfig) -> bytes | None:
+    """The run's SecOC key: a named key file, else a fresh one in process or for a spawned ECU, else None."""
+    key_file = options.key_file or config.key_file
+    if key_file:
+        return load_key_file(key_file)
+    if options.authenticate and options.mode in ("inprocess", "process"):
+        return generate_key()
+    return None
+
+
 class InProcessLink:
     """The ECU node on an in-process virtual bus, stepped by the master (the reference)."""
 
     realtime = False
 
-    def __init__(self, config: EcuConfig) -> None:
+    def __init__(self, config: EcuConfig, key: bytes | None = None) -> None:
         channel = f"crd-{os.getpid()}-{next(_channels)}"
         self._bus = can.Bus(interface="virtual", channel=channel, receive_own_messages=False)
         self._ecu_bus = can.Bus(interface="virtual", channel=channel, receive_own_messages=False)
-        self.node = EcuNode(self._ecu_bus, config)
+        self.node = EcuNode(self._ecu_bus, config, key=key)
         self.events: list[RunEvent] = []
         self.timing: dict[str, float] = {}
 
@@ -153,8 +178,9 @@ class _Samples:
 class BusLink:
     """The ECU as another participant on a real python-can bus (process or attach)."""
 
-    def __init__(self, options: EcuOptions, config: EcuConfig, cycle_s: float) -> None:
+    def __init__(self, options: EcuOptions, config: EcuConfig, cycle_s: float, key: bytes | None = None) -> None:
         self.options = options
+        self._signer = SecOcSender(key) if key is not None else None
         self.realtime = options.realtime
         self._config = config
         self._cycle_s = cycle_s
@@ -182,6 +208,10 @@ class BusLink:
             if options.mode == "process":
                 workdir = self._tmpdir or Path(tempfile.mkdtemp(prefix="crd-ecu-"))
                 self._tmpdir = workdir
+                if key is not None and not (options.key_file or config.key_file):  # the run's fresh key
+                    config = dataclasses.replace(config, key_file=str(write_key_file(workdir / "secoc.key", key)))
+                elif options.key_file:
+                    config = dataclasses.replace(config, key_file=options.key_file)
                 self.process = EcuProcess(options.interface, channel, config, not options.realtime, workdir)
         except BaseException:
             self.close()
@@ -228,6 +258,10 @@ class BusLink:
             clock = encode("SimClock", {"SimTimeMs": int(round(t_s * 1000.0))}, self._clock_seq.next())
             self._send(clock, t_s)
             extra.append(clock)
+            if self._signer is not None:
+                auth = self._signer.authenticator(clock)
+                self._send(auth, t_s)
+                extra.append(auth)
         if cost is not None:
             cost["bus"] += time.perf_counter_ns() - c0
         return extra
@@ -263,7 +297,7 @@ class BusLink:
                 self._lose(t_s, f"no frame from the ECU for {now - self._last_rx_wall:.3f} s wall time "
                                 f"(timeout {self.options.reply_timeout_s} s)")
             return received
-        wanted = {OVERRIDE_ID}
+        wanted = {OVERRIDE_ID} if self._signer is None else {OVERRIDE_ID, OVERRIDE_AUTH_ID}
         if self._status_period is not None and cycle % self._status_period == 0:
             wanted.add(STATUS_ID)
         first = cycle == 0 and not hasattr(self.bus, "peer_count")
@@ -336,8 +370,9 @@ class BusLink:
                 self._tmpdir = None
 
 
-def open_link(options: EcuOptions, config: EcuConfig, cycle_s: float) -> InProcessLink | BusLink:
-    """The link for ``options.mode``."""
+def open_link(options: EcuOptions, config: EcuConfig, cycle_s: float,
+              key: bytes | None = None) -> InProcessLink | BusLink:
+    """The link for ``options.mode`` (``key``: the run's SecOC key, see :func:`run_key`)."""
     if options.mode == "inprocess":
-        return InProcessLink(config)
-    return BusLink(options, config, cycle_s)
+        return InProcessLink(config, key)
+    return BusLink(options, config, cycle_s, key)

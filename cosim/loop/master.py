@@ -45,12 +45,12 @@ from typing import Callable
 import can
 import numpy as np
 
-from can_dbc import CounterSequence, encode, signal_layout
+from can_dbc import CounterSequence, SecOcSender, encode, signal_layout
 from ecu import EcuConfig
 from ecu.bus_port import KMH_PER_MPS
 
 from ..world.driver_models import make_driver
-from ..link.ecu_link import EcuOptions, open_link
+from ..link.ecu_link import EcuOptions, open_link, run_key
 from ..errors import FmiStepError
 from ..world.gateway import Actuation, Gateway
 from ..world.plant_fmu import FmuPlant, PlantSample
@@ -100,7 +100,9 @@ class ClosedLoop:
         self.driver = make_driver(scenario.driver)
         self.radar = RadarModel(scenario.radar, np.random.default_rng(scenario.scenario.seed))
         self.ecu = ecu if ecu is not None else EcuOptions()
-        self.gateway = Gateway(scenario.gateway, conflict_window_cycles=10 if self.ecu.realtime else 1)
+        key = run_key(self.ecu, self._ecu_cfg)  # SecOC: None means E2E protection only
+        self._signer = SecOcSender(key) if key is not None else None
+        self.gateway = Gateway(scenario.gateway, conflict_window_cycles=10 if self.ecu.realtime else 1, key=key)
         self.record = RunRecord(self.strategy, RunMetrics(self.strategy))
         self._seq = {name: CounterSequence() for name in ("DriverInput", "WheelSpeeds", "ObjectTrack")}
         self._cost = dict.fromkeys(PHASES, 0) if profile else None
@@ -108,7 +110,7 @@ class ClosedLoop:
         self.record.fmu_path, self.record.fmu_sha256 = str(fmu_path), self.plant.sha256
         self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
         try:
-            self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S)
+            self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S, key)
         except BaseException:
             self.plant.close()
             raise
@@ -125,6 +127,9 @@ class ClosedLoop:
         ]
         if cycle % self.n_track == 0:
             out.append(encode("ObjectTrack", self.radar.measure().signals(), self._seq["ObjectTrack"].next()))
+        if self._signer is not None:  # each frame followed by its SecOC authenticator
+            sign = self._signer.authenticator
+            out = [f for msg in out for f in (msg, sign(msg))]
         return out
 
     def _cycle_out(self, t_s: float, cycle: int) -> _Outgoing:
@@ -259,6 +264,7 @@ class ClosedLoop:
         m.sim_time_s = t_s
         m.wall_time_s = wall_s
         m.contingency_invocations = self.gateway.contingency_invocations
+        self.gateway.finish(t_s)
         if m.min_gap_m is not None and not np.isfinite(m.min_gap_m):
             m.min_gap_m = None
         self.record.events[:0] = self.gateway.events

@@ -8,7 +8,7 @@ and the contingency (full braking, held until standstill) is invoked when it
 is not disjoint:
 
 * the object track must be usable: not timed out, E2E score below the
-  limit, no rate or sequence fault, and the clock plausible. Without it
+  limit, no rate or sequence fault, and not stamped after the cycle time. Without it
   there is nothing to brake for, and no braking is started (as before);
 * speed: the wheel-speed estimate if the wheels are usable and agree with
   the radar; otherwise the radar's closing speed ``v_c = max(0, -range_rate)``
@@ -39,12 +39,11 @@ _OBJECT_BAD = (1 << FaultFlag.RATE) | (1 << FaultFlag.SEQUENCE)
 
 
 def object_usable(inputs: CoreInputs, flags: int, params: CoreParams) -> bool:
-    """The object track is fresh, E2E-valid, in rate and sequence, and the clock is plausible."""
+    """The object track is fresh (age 0 .. timeout), E2E-valid, and in rate and sequence."""
     return (
-        inputs.t_s - inputs.object_rx_t_s <= params.object_timeout_s + _EPS_S
+        -_EPS_S <= inputs.t_s - inputs.object_rx_t_s <= params.object_timeout_s + _EPS_S
         and inputs.object_e2e_score < params.e2e_invalid_score
         and not inputs.object_rx_flags & _OBJECT_BAD
-        and not flags & (1 << FaultFlag.CLOCK)
     )
 
 
