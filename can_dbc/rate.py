@@ -6,7 +6,9 @@ A message declared with ``GenMsgCycleTime`` ``T`` should arrive ``WINDOW_CYCLES`
 * too fast: ``n > FAST_FACTOR · 10`` (more than 15), e.g. a second sender or a
   flood; a burst of up to 5 cycles' frames (a stalled sender catching up) passes;
 * too slow: ``n < SLOW_FACTOR · 10`` (fewer than 5) once the message has been
-  seen for a whole window: a sender that lost more than half its frames.
+  seen for a whole window: a sender that lost more than half its frames. A
+  frame after a silence longer than the window restarts the monitoring (the
+  silence itself is the consumer's timeout, and its recovery rule applies).
 
 A violation makes the message invalid until a whole window has passed
 without one. Times are the receiver's cycle times (s), passed in; nothing
@@ -42,9 +44,10 @@ class RateMonitor:
     def arrive(self, t_s: float) -> bool:
         """Record an arrival at ``t_s``; True when it makes the window too fast."""
         times = self._times
-        times.append(t_s)
-        if self._first_t_s is None:
+        if self._first_t_s is None or t_s - times[-1] > self.window_s:
+            times.clear()
             self._first_t_s = t_s
+        times.append(t_s)
         if len(times) > self.max_count and t_s - times[0] < self.window_s - _EPS_S:
             self._violation_t_s = t_s
             return True

@@ -3,7 +3,7 @@
 Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``,
 writes every run's outputs and ``speed_profiles.png``, prints a table and each
 claim of the paper with PASS or FAIL (:mod:`cosim.results.paper_claims`), and exits 3
-if any claim fails.
+if any claim fails, 4 if frames failed SecOC authentication (see ``crd run``).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from pathlib import Path
 from ..loop.experiment import run_strategies
 from ..results.paper_claims import REQUIRED, evaluate
 from ..scenarios.loader import load_scenario
-from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
+from .ecu_options import add_ecu_arguments, ecu_options, security_exit, timing_lines
 from .progress import end_progress, progress_printer, results_table
 
 PAPER_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper_cyclist.toml"
@@ -47,4 +47,4 @@ def _do_paper(args: argparse.Namespace) -> int:
     for claim in claims:
         print(f"[{'PASS' if claim.passed else 'FAIL'}] claim {claim.number}: {claim.text}\n        {claim.detail}")
     print(f"\nspeed profiles: {args.out / 'speed_profiles.png'}")
-    return 0 if all(c.passed for c in claims) else EXIT_CLAIM_FAILED
+    return security_exit(records) if all(c.passed for c in claims) else EXIT_CLAIM_FAILED

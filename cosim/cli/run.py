@@ -1,7 +1,8 @@
 """``crd run SCENARIO.toml [--strategy S] [--out DIR] [--can-log NAME]``: one scenario.
 
 Exit status 0 when every ``[checks]`` expectation holds, 3 when one fails
-(each printed), 1 on an error (bad scenario, missing/broken FMU, FMI error:
+(each printed), 4 when frames failed SecOC authentication or a foreign
+``SafetyOverride`` was seen (``auth_failure``/``ecu_security_fault`` events), 1 on an error (bad scenario, missing/broken FMU, FMI error:
 results up to the error are still written).
 """
 
@@ -14,7 +15,7 @@ from pathlib import Path
 from ..loop.experiment import check_run, run_strategies
 from ..scenarios.config import STRATEGIES
 from ..scenarios.loader import load_scenario
-from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
+from .ecu_options import add_ecu_arguments, ecu_options, security_exit, timing_lines
 from .progress import end_progress, progress_printer, results_table
 
 EXIT_CHECK_FAILED = 3
@@ -47,4 +48,4 @@ def _do_run(args: argparse.Namespace) -> int:
     failed = check_run(scenario, record)
     for message in failed:
         print(f"CHECK FAILED: {message}")
-    return EXIT_CHECK_FAILED if failed else 0
+    return EXIT_CHECK_FAILED if failed else security_exit(records)

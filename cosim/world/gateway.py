@@ -95,6 +95,7 @@ class Gateway:
         self.conflict = False
         self._rx = Receiver(names=["SafetyOverride"], secoc=SecOcVerifier(key) if key is not None else None)
         self._status_rx = Receiver(names=["EcuStatus"])
+        self._keyed = key is not None
         self.auth_failures = 0
         self._ecu_security_reported = False
         self._last_fresh_t_s = 0.0  # the first timeout window starts at t = 0
@@ -107,7 +108,7 @@ class Gateway:
     def offer(self, msg: can.Message, t_s: float) -> bool:
         """Take one frame from the bus; returns True if it was a fresh valid ``SafetyOverride``."""
         override = msg.arbitration_id == _OVERRIDE_ID and not msg.is_extended_id
-        if override:
+        if override and not self._keyed:  # keyed: only authenticated frames count (below)
             self._in_cycle += 1
         elif msg.arbitration_id == _STATUS_ID:
             self._ecu_status(msg, t_s)
@@ -122,11 +123,15 @@ class Gateway:
             return False
         if frame is None:  # held until its authenticator arrives
             return False
-        if not frame.synced:  # resynchronising after a sequence error: not obeyed
+        if self._keyed:  # a forged frame is rejected above and is no evidence of a second ECU
+            self._in_cycle += 1
+        if not frame.synced:  # resynchronising after a sequence error: neither it nor older data is obeyed
             self._counter_anomaly = True
+            self._signals = None
             return False
-        if not frame.fresh:  # repeated counter: no new data
+        if not frame.fresh:  # repeated counter: no new data, and a second sender: drop what it may have sent
             self._counter_anomaly = True
+            self._signals = None
             return False
         mode = _MODE_NAMES[int(frame.signals["Mode"])]  # the receiver checked it against the DBC's VAL_
         if mode == "CONTINGENCY" and self.mode != "CONTINGENCY":
