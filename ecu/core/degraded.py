@@ -38,7 +38,7 @@ _EPS_S = 1e-6
 _OBJECT_BAD = (1 << FaultFlag.RATE) | (1 << FaultFlag.SEQUENCE)
 
 
-def object_usable(inputs: CoreInputs, flags: int, params: CoreParams) -> bool:
+def object_usable(inputs: CoreInputs, params: CoreParams) -> bool:
     """The object track is fresh (age 0 .. timeout), E2E-valid, and in rate and sequence."""
     return (
         -_EPS_S <= inputs.t_s - inputs.object_rx_t_s <= params.object_timeout_s + _EPS_S
@@ -52,10 +52,18 @@ def radar_closing_speed_mps(inputs: CoreInputs) -> float:
     return max(0.0, -inputs.object_range_rate_mps)
 
 
+def release_speed_mps(speed_mps: float, wheels_ok: bool, inputs: CoreInputs, params: CoreParams) -> float:
+    """The speed a held contingency waits to fall to standstill: without usable wheels, never below the
+    closing speed of a usable track."""
+    if wheels_ok or not (inputs.object_valid and object_usable(inputs, params)):
+        return speed_mps
+    return max(speed_mps, radar_closing_speed_mps(inputs))
+
+
 def degraded_brake(speed_mps: float, wheels_ok: bool, driver_ok: bool, inputs: CoreInputs,
-                   flags: int, params: CoreParams) -> bool:
+                   params: CoreParams) -> bool:
     """Whether the degraded check invokes the contingency this cycle (see the module doc)."""
-    if not (inputs.object_valid and object_usable(inputs, flags, params)):
+    if not (inputs.object_valid and object_usable(inputs, params)):
         return False
     if wheels_ok:
         v = closing_speed_mps(speed_mps, inputs.object_range_rate_mps, params)

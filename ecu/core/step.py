@@ -28,7 +28,7 @@ from .params import CoreParams
 from .speed_estimate import coast_down_speed_mps, update_speed_mps
 from .stopping_path import closing_speed_mps, is_disjoint, path_distance_m
 from .strategies import NO_TIGHTENING, driver_accel_mps2, proximity, tighten
-from .degraded import degraded_brake, radar_closing_speed_mps
+from .degraded import degraded_brake, release_speed_mps
 from .plausibility import braking_now, input_health, speed_radar_implausible
 from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag, Mode
 from .validity import fault_flags, wheel_speeds_valid
@@ -79,6 +79,18 @@ def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams,
     return speed, True, mean, since_brake
 
 
+def _checked_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[int, tuple, bool, bool]:
+    """(fault flags, _next_speed's result, wheels usable, driver input usable) after every check."""
+    health = input_health(inputs, braking_now(state, inputs, params), params)
+    flags = fault_flags(inputs, params) | health.flags
+    speed_parts = _next_speed(state, inputs, params, health.wheels_ok)
+    wheels_ok = health.wheels_ok and wheel_speeds_valid(inputs, params)
+    if wheels_ok and speed_radar_implausible(speed_parts[0], inputs, params):
+        flags |= 1 << FaultFlag.SPEED_RADAR
+        wheels_ok = False
+    return flags, speed_parts, wheels_ok, health.driver_ok
+
+
 def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[float, float]:
     """(throttle limit %, deceleration request m/s^2) for the decided mode."""
     mode = decision.mode
@@ -98,29 +110,23 @@ def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[f
 
 def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[CoreState, CoreOutputs]:
     """Run one cycle; return the next state and the gated outputs."""
-    health = input_health(inputs, braking_now(state, inputs, params), params)
-    flags = fault_flags(inputs, params) | health.flags
-    speed, initialised, wheel_mean, since_brake = _next_speed(state, inputs, params, health.wheels_ok)
-    wheels_ok = health.wheels_ok and wheel_speeds_valid(inputs, params)
-    if wheels_ok and speed_radar_implausible(speed, inputs, params):
-        flags |= 1 << FaultFlag.SPEED_RADAR
-        wheels_ok = False
+    flags, (speed, initialised, wheel_mean, since_brake), wheels_ok, driver_ok = _checked_speed(
+        state, inputs, params)
     fault = flags & ~REPORT_ONLY_FLAGS
     plan = plan_cycle(speed, inputs, params)
     contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
         state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
-    stop_speed = speed if wheels_ok else max(speed, radar_closing_speed_mps(inputs) if inputs.object_valid else 0.0)
     decision = next_mode(
         fault,
         planned_mode(plan.disjoint, plan.tightening_restricts),
         state.valid_cycles,
         contingency_active,
-        stop_speed <= params.standstill_speed_mps,
+        release_speed_mps(speed, wheels_ok, inputs, params) <= params.standstill_speed_mps,
         params,
     )
     throttle, decel = _commands(decision, plan, params)
     if fault and decel < params.contingency_decel_mps2 and degraded_brake(
-            speed, wheels_ok, health.driver_ok, inputs, flags, params):
+            speed, wheels_ok, driver_ok, inputs, params):
         decel = params.contingency_decel_mps2  # degraded mode (ecu.core.degraded)
     gated = gate(decision.mode, throttle, decel)
     if gated.interventions:

@@ -65,3 +65,17 @@ def test_security_events_make_the_exit_status_4():
     assert security_exit([record]) == 0
     record.events.append(RunEvent(1.0, "auth_failure", "forged"))
     assert security_exit([record]) == EXIT_SECURITY == 4
+
+
+def test_runs_authenticate_by_default(tmp_path):
+    """No key file: a fresh key per run, so every input and SafetyOverride has its authenticator in the log."""
+    import can
+
+    from can_dbc import AUTHENTICATORS
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(SCENARIO)
+    assert crd(["run", str(scen), "--out", str(tmp_path / "o")]) == 0
+    ids = [m.arbitration_id for m in can.LogReader(str(tmp_path / "o" / "tightening" / "can.blf"))]
+    for name in ("SafetyOverride", "WheelSpeeds", "DriverInput", "ObjectTrack"):
+        assert ids.count(AUTHENTICATORS[name]) == ids.count(AUTHENTICATORS[name] - 1) > 0
