@@ -30,14 +30,14 @@ class Mode(IntEnum):
 
 
 class FaultFlag(IntEnum):
-    """Bit numbers of ``EcuStatus.FaultFlags``."""
+    """Fault bit numbers; bit k is the ``EcuStatus`` signal at DBC bit 50 + k (``ecu.bus_port.FAULT_SIGNALS``)."""
 
     WHEEL_SPEED_TIMEOUT = 0
     DRIVER_INPUT_TIMEOUT = 1
     OBJECT_TIMEOUT = 2
     E2E_ERROR = 3
     INTERNAL = 4
-    # issue 15 receiver and plausibility checks; EcuStatus.Fault<Name> at bit 55 + (value - 5)
+    # issue 15 receiver, plausibility and node checks; EcuStatus.Fault<Name> at bit 50 + value
     RATE = 5
     WHEEL_SLIP = 6
     SPEED_RADAR = 7
@@ -48,12 +48,6 @@ class FaultFlag(IntEnum):
     SEQUENCE = 12
 
 
-#: EcuStatus signal name of each flag from RATE on (``Fault`` + CamelCase name)
-NAMED_FAULT_SIGNALS: dict[int, str] = {
-    FaultFlag.RATE: "FaultRate", FaultFlag.WHEEL_SLIP: "FaultWheelSlip", FaultFlag.SPEED_RADAR: "FaultSpeedRadar",
-    FaultFlag.PEDALS: "FaultPedals", FaultFlag.CLOCK: "FaultClock", FaultFlag.AUTH: "FaultAuth",
-    FaultFlag.FOREIGN_OVERRIDE: "FaultForeignOverride", FaultFlag.SEQUENCE: "FaultSequence",
-}
 #: flags reported in EcuStatus that do not by themselves make the ECU leave its mode: a rejected
 #: forged frame leaves the authenticated stream trustworthy (see ecu/README.md, degraded mode)
 REPORT_ONLY_FLAGS = 1 << FaultFlag.AUTH

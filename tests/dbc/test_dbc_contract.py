@@ -51,8 +51,8 @@ def test_e2e_header_layout():
         if message.frame_id in AUTHENTICATORS.values():
             continue  # SecOC authenticators carry Freshness and Mac instead (test below)
         crc, counter = message.signals[0], message.signals[1]
-        assert (crc.name, crc.start, crc.length) == ("CHECKSUM", 0, 8)
-        assert (counter.name, counter.start, counter.length, counter.maximum) == ("COUNTER", 8, 4, 14)
+        assert (crc.name, crc.start, crc.length) == (f"{message.name}_CRC", 0, 8)
+        assert (counter.name, counter.start, counter.length, counter.maximum) == (f"{message.name}_Counter", 8, 4, 14)
 
 
 def test_secoc_authenticators():
@@ -63,7 +63,8 @@ def test_secoc_authenticators():
         auth = DATABASE.get_message_by_frame_id(auth_id)
         assert auth_id == protected.frame_id + 1 and auth.name == name + "Auth"
         assert auth.senders == protected.senders and auth.cycle_time == protected.cycle_time
-        assert [(s.name, s.start, s.length) for s in auth.signals] == [("Freshness", 0, 16), ("Mac", 16, 48)]
+        assert [(s.name, s.start, s.length) for s in auth.signals] == [
+            (f"{name}Auth_Freshness", 0, 16), (f"{name}Auth_Mac", 16, 48)]
 
 
 def test_canmatrix_loads_the_dbc():

@@ -4,7 +4,7 @@ import can
 import pytest
 
 from can_dbc import (
-    RX_SEQUENCE,
+    LAYOUTS, RX_SEQUENCE,
     ChecksumError, CounterError, EnumError, LengthError, RangeError, Receiver,
     UnknownFrame, encode, e2e_p01_crc,
 )
@@ -93,9 +93,8 @@ def test_range_violation_rejected():
 
 def test_undefined_enum_rejected():
     msg = encode("EcuStatus", {"Strategy": 0, "Proximity": 0, "StoppingDistance": 0,
-                               "SpeedEstimate": 0, "FaultFlags": 0,
-                               **{f"Fault{n}": 0 for n in ("Rate", "WheelSlip", "SpeedRadar", "Pedals", "Clock",
-                                                           "Auth", "ForeignOverride", "Sequence")}}, 0)
+                               "SpeedEstimate": 0,
+                               **{s.name: 0 for s in LAYOUTS["EcuStatus"].signals if s.name.startswith("Fault")}}, 0)
     # Strategy raw 3 is within the 2-bit field but not declared (and outside the DBC max 2).
     bad = _resealed(msg, lambda d: d.__setitem__(1, d[1] | 0x30))
     with pytest.raises((EnumError, RangeError)):
