@@ -5,10 +5,12 @@ A message declared with ``GenMsgCycleTime`` ``T`` should arrive ``WINDOW_CYCLES`
 
 * too fast: ``n > FAST_FACTOR · 10`` (more than 15), e.g. a second sender or a
   flood; a burst of up to 5 cycles' frames (a stalled sender catching up) passes;
-* too slow: ``n < SLOW_FACTOR · 10`` (fewer than 5) once the message has been
-  seen for a whole window: a sender that lost more than half its frames. A
-  frame after a silence longer than the window restarts the monitoring (the
-  silence itself is the consumer's timeout, and its recovery rule applies).
+* too slow: ``n < SLOW_FACTOR · 10`` (fewer than 5) while the message still
+  arrives (its latest frame at most ``ACTIVE_CYCLES`` = 4 cycle times old), once
+  it has been seen for a whole window: a sender that lost more than half its
+  frames yet never long enough for a timeout. A silence is the consumer's
+  timeout, not a rate fault, and a frame after a silence longer than the
+  window restarts the monitoring (the timeout's recovery rule applies).
 
 A violation makes the message invalid until a whole window has passed
 without one. Times are the receiver's cycle times (s), passed in; nothing
@@ -24,6 +26,7 @@ from collections import deque
 WINDOW_CYCLES = 10
 FAST_FACTOR = 1.5
 SLOW_FACTOR = 0.5
+ACTIVE_CYCLES = 4
 #: tolerance on time comparisons (t = k * 0.01 rounding)
 _EPS_S = 1e-6
 
@@ -31,10 +34,11 @@ _EPS_S = 1e-6
 class RateMonitor:
     """Arrival-rate check of one message with cycle time ``cycle_s``."""
 
-    __slots__ = ("window_s", "max_count", "min_count", "_times", "_violation_t_s", "_first_t_s")
+    __slots__ = ("window_s", "active_s", "max_count", "min_count", "_times", "_violation_t_s", "_first_t_s")
 
     def __init__(self, cycle_s: float) -> None:
         self.window_s = WINDOW_CYCLES * cycle_s
+        self.active_s = ACTIVE_CYCLES * cycle_s
         self.max_count = int(math.floor(FAST_FACTOR * WINDOW_CYCLES))
         self.min_count = int(math.ceil(SLOW_FACTOR * WINDOW_CYCLES))
         self._times: deque[float] = deque(maxlen=self.max_count + 1)
@@ -58,11 +62,13 @@ class RateMonitor:
         return t_s - self._violation_t_s < self.window_s - _EPS_S
 
     def too_slow(self, t_s: float) -> bool:
-        """Fewer than ``min_count`` arrivals in the window ending at ``t_s`` (once monitored a window)."""
+        """Fewer than ``min_count`` arrivals in the window ending at ``t_s``, while still arriving."""
         first = self._first_t_s
         if first is None or t_s - first < self.window_s - _EPS_S:
             return False
         times = self._times
+        if t_s - times[-1] > self.active_s + _EPS_S:
+            return False  # silent: a timeout, not a rate fault
         return len(times) < self.min_count or times[-self.min_count] <= t_s - self.window_s + _EPS_S
 
     def fault(self, t_s: float) -> bool:
