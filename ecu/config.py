@@ -52,6 +52,7 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
     "wheel_slip_fraction": (0.0, 1.0, True),
     "radar_speed_tolerance_mps": (0.0, 100.0, True),
     "pedal_conflict_fraction": (0.0, 1.0, True),
+    "degraded_decel_fraction": (0.0, 1.0, False),
 }
 _CHOICES: dict[str, tuple[str, ...]] = {
     "strategy": tuple(STRATEGIES),

@@ -18,8 +18,11 @@ is not disjoint:
 * command held for ``t_h``: the driver's (``a_drv``) if the driver input is
   usable, else a fully pressed accelerator (``driver_max_accel``), the worst
   case the throttle limit of 0 % bounds after the powertrain's lag;
-* braking at ``D = model_decel``; not disjoint iff ``d + standoff > range``
-  (:mod:`ecu.core.stopping_path`).
+* braking at ``D = min(model_decel, degraded_decel_fraction · peak_decel)``
+  (0.8, the conservative strategy's fraction: with a sensor lost the ECU
+  keeps the larger margin; with 0.9 the closed-loop test of finding 1 stopped
+  only 5 cm short, as the model ignores the actuation and radar lags);
+  not disjoint iff ``d + standoff > range`` (:mod:`ecu.core.stopping_path`).
 
 Throttle stays withheld in FAULT (limit 0 %). Mode reported: FAULT with
 ``BrakeDecelRequest`` = the contingency's deceleration. An attack on one
@@ -71,5 +74,6 @@ def degraded_brake(speed_mps: float, wheels_ok: bool, driver_ok: bool, inputs: C
         v = radar_closing_speed_mps(inputs)
     a = driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params) if driver_ok \
         else params.driver_max_accel_mps2
-    d = stopping_distance_m(v, a, params.hold_time_s, params.model_decel_mps2)
+    decel = min(params.model_decel_mps2, params.degraded_decel_fraction * params.peak_decel_mps2)
+    d = stopping_distance_m(v, a, params.hold_time_s, decel)
     return d + params.standoff_m > inputs.object_range_m

@@ -80,6 +80,9 @@ class CoreParams:
     radar_speed_tolerance_mps: float = 6.0
     #: both pedals above this fraction at once is implausible.
     pedal_conflict_fraction: float = 0.5
+    #: degraded mode (ecu.core.degraded) plans with at most this fraction of peak_decel, the
+    #: conservative strategy's: with a sensor lost it needs the margin (measured: 0.9 stopped 5 cm short).
+    degraded_decel_fraction: float = 0.8
 
     model_decel_mps2: float = field(init=False, repr=False, compare=False)
     tightening_enabled: bool = field(init=False, repr=False, compare=False)
