@@ -1,9 +1,10 @@
 """``crd paper [--scenario F] [--out DIR]``: the paper's experiment in one command.
 
 Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``,
-writes every run's outputs and ``speed_profiles.png``, prints a table and each
-claim of the paper with PASS or FAIL (:mod:`cosim.results.paper_claims`), and exits 3
-if any claim fails, 4 if frames failed SecOC authentication (see ``crd run``).
+writes every run's outputs, ``speed_profiles.png`` and ``report.md``, prints a
+table and each claim of the paper with PASS or FAIL
+(:mod:`cosim.results.paper_claims`), and exits 3 if any claim fails, 4 if frames
+failed SecOC authentication (see ``crd run``).
 """
 
 from __future__ import annotations
@@ -13,10 +14,11 @@ import sys
 from pathlib import Path
 
 from ..loop.experiment import run_strategies
-from ..results.paper_claims import REQUIRED, evaluate
+from ..results.paper_claims import REQUIRED, evaluate, verdicts
 from ..scenarios.loader import load_scenario
 from .ecu_options import add_ecu_arguments, ecu_options, security_exit, timing_lines
 from .progress import end_progress, progress_printer, results_table
+from .scenarios import find_scenario
 
 PAPER_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper_cyclist.toml"
 EXIT_CLAIM_FAILED = 3
@@ -24,17 +26,19 @@ EXIT_CLAIM_FAILED = 3
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p = subparsers.add_parser("paper", help="reproduce the paper's three speed profiles and check its claims")
-    p.add_argument("--scenario", type=Path, default=PAPER_SCENARIO, help="scenario (default: paper_cyclist.toml)")
+    p.add_argument("--scenario", default=PAPER_SCENARIO,
+                   help="scenario file or bundled name (default: paper_cyclist.toml)")
     p.add_argument("--out", type=Path, default=Path("out/paper"), help="output directory (default out/paper)")
     add_ecu_arguments(p, realtime=False)
     p.set_defaults(func=_do_paper)
 
 
 def _do_paper(args: argparse.Namespace) -> int:
-    scenario = load_scenario(args.scenario)
-    print(f"crd paper: {args.scenario.name}, strategies {', '.join(REQUIRED)} -> {args.out}", file=sys.stderr)
+    path = find_scenario(args.scenario)
+    scenario = load_scenario(path)
+    print(f"crd paper: {path.name}, strategies {', '.join(REQUIRED)} -> {args.out}", file=sys.stderr)
     records = run_strategies(scenario, list(REQUIRED), args.out, progress=progress_printer,
-                              ecu=ecu_options(args))
+                              ecu=ecu_options(args), judge=verdicts)
     end_progress()
     print(results_table(records))
     for line in timing_lines(records):
@@ -46,5 +50,5 @@ def _do_paper(args: argparse.Namespace) -> int:
     print()
     for claim in claims:
         print(f"[{'PASS' if claim.passed else 'FAIL'}] claim {claim.number}: {claim.text}\n        {claim.detail}")
-    print(f"\nspeed profiles: {args.out / 'speed_profiles.png'}")
+    print(f"\nspeed profiles: {args.out / 'speed_profiles.png'}; report: {args.out / 'report.md'}")
     return security_exit(records) if all(c.passed for c in claims) else EXIT_CLAIM_FAILED

@@ -10,6 +10,7 @@ against each field's ``metadata``. ``[ecu]`` parameters other than
 from __future__ import annotations
 
 import dataclasses
+import datetime as dt
 import difflib
 import math
 import tomllib
@@ -24,9 +25,11 @@ from .config import (
     BUILTIN_OUTPUTS,
     INPUT_ROLES,
     OUTPUT_ROLES,
+    INITIAL_ROLES,
     ChecksConfig,
     DriverConfig,
     EcuSection,
+    EndConfig,
     GatewayConfig,
     ObjectConfig,
     PlantConfig,
@@ -39,9 +42,10 @@ from .config import (
 _SECTIONS = {
     "scenario": ScenarioSection, "plant": PlantConfig, "driver": DriverConfig,
     "object": ObjectConfig, "radar": RadarConfig, "gateway": GatewayConfig,
-    "ecu": EcuSection, "checks": ChecksConfig,
+    "ecu": EcuSection, "checks": ChecksConfig, "end": EndConfig,
 }
-_SPECIAL = {"parameters", "inputs", "outputs", "points"}
+_ARRAYS = {"objects": ObjectConfig}  # [[name]] arrays of tables
+_SPECIAL = {"parameters", "inputs", "outputs", "points", "initial"}
 
 
 def _unknown(key: str, path: str, valid: typing.Iterable[str]) -> ConfigError:
@@ -83,7 +87,29 @@ def _base_type(hint: Any) -> type:
     return args[0] if args else hint
 
 
+_EARLIEST_START = dt.datetime(1990, 1, 1, tzinfo=dt.timezone.utc)  # BLF headers treat earlier dates as unset
+
+
+def _start_time(value: Any, where: str) -> str:
+    """An offset date-time (TOML or ISO 8601 text) as normalised ISO 8601 text."""
+    expected = "expected an ISO 8601 date-time with a UTC offset such as 2020-01-01T00:00:00Z"
+    if isinstance(value, str):
+        try:
+            value = dt.datetime.fromisoformat(value)
+        except ValueError:
+            raise ConfigError(f"{where}: {expected}, got {value!r}") from None
+    if not isinstance(value, dt.datetime) or value.tzinfo is None:
+        shown = value.isoformat() if isinstance(value, (dt.date, dt.time)) else repr(value)
+        raise ConfigError(f"{where}: {expected}, got {shown} (no offset)" if isinstance(value, dt.datetime)
+                          else f"{where}: {expected}, got {shown}")
+    if not _EARLIEST_START <= value < dt.datetime(2100, 1, 1, tzinfo=dt.timezone.utc):
+        raise ConfigError(f"{where}: expected a date from 1990 to 2099, got {value.isoformat()}")
+    return value.isoformat()
+
+
 def _plain_field(f: dataclasses.Field, hint: Any, value: Any, where: str) -> Any:
+    if f.metadata.get("datetime"):
+        return _start_time(value, where)
     value = _coerce(value, _base_type(hint), where)
     if "range" in f.metadata:
         lo, hi = f.metadata["range"]
@@ -171,6 +197,8 @@ def _section(cls: type, table: Any, path: str) -> Any:
             kwargs[key] = _signal_maps(value, INPUT_ROLES, where)
         elif key == "outputs":
             kwargs[key] = _signal_maps(value, OUTPUT_ROLES, where)
+        elif key == "initial":
+            kwargs[key] = _signal_maps(value, INITIAL_ROLES, where)
         elif key == "points":
             kwargs[key] = _points(value, where)
         else:
@@ -189,6 +217,32 @@ def _merge_builtin(plant: PlantConfig, given: Mapping[str, Any]) -> PlantConfig:
     return dataclasses.replace(plant, inputs=tuple(inputs.values()), outputs=tuple(outputs.values()))
 
 
+def _arrays(data: Mapping[str, Any]) -> dict[str, Any]:
+    """``[[objects]]``: a list of tables; with it, the single ``[object]`` is disabled."""
+    out: dict[str, Any] = {}
+    for name, cls in _ARRAYS.items():
+        if name not in data:
+            continue
+        if "object" in data:
+            raise ConfigError(f"{name}: expected either [object] or [[{name}]], got both")
+        rows = data[name]
+        if not isinstance(rows, list) or not rows:
+            raise ConfigError(f"{name}: expected one or more [[{name}]] tables, got {rows!r}")
+        out[name] = tuple(_section(cls, row, f"{name}[{i}]") for i, row in enumerate(rows))
+        out["object"] = ObjectConfig(enabled=False)
+    return out
+
+
+def _check_initial(plant: PlantConfig) -> None:
+    if plant.initial_speed_mps > 0.0 and not plant.initial:
+        raise ConfigError("plant.initial_speed_mps: this FMU has no [plant.initial] speed mapping;"
+                          " expected [plant.initial] speed = \"<parameter name>\"")
+    for m in plant.initial:
+        if m.names[0] in plant.parameters and plant.initial_speed_mps > 0.0:
+            raise ConfigError(f"plant.parameters.{m.names[0]}: set by plant.initial_speed_mps"
+                              f" through [plant.initial] {m.role}; expected only one of the two")
+
+
 def _check_plant_roles(plant: PlantConfig) -> None:
     roles_in = {m.role for m in plant.inputs}
     if "accel_command" in roles_in and roles_in & {"throttle", "brake"}:
@@ -205,8 +259,9 @@ def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) ->
 
     A relative ``plant.fmu`` path is resolved against ``base_dir``.
     """
-    _check_keys(data, _SECTIONS, "")
+    _check_keys(data, list(_SECTIONS) + list(_ARRAYS), "")
     sections = {name: _section(cls, data[name], name) for name, cls in _SECTIONS.items() if name in data}
+    sections.update(_arrays(data))
     plant = sections.get("plant", PlantConfig())
     if "plant" in data and plant.fmu == "builtin":
         plant = _merge_builtin(plant, data["plant"])
@@ -215,7 +270,10 @@ def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) ->
             raise ConfigError("plant: a third-party FMU needs [plant.inputs] and [plant.outputs]")
         if base_dir is not None and not Path(plant.fmu).is_absolute():
             plant = dataclasses.replace(plant, fmu=str((base_dir / plant.fmu).resolve()))
+        if "initial" not in data["plant"]:
+            plant = dataclasses.replace(plant, initial=())
     _check_plant_roles(plant)
+    _check_initial(plant)
     sections["plant"] = plant
     scen = sections.get("scenario", ScenarioSection())
     cycles = 0.01 / scen.step_s

@@ -9,7 +9,8 @@ and turns an FMI error into :class:`~cosim.errors.FmiStepError` naming the
 time and the FMI status.
 
 Conversions (SI on our side): output ``si = fmu * scale + offset``; input
-``fmu = role * scale + offset``. An ``accel_command`` FMU gets
+``fmu = role * scale + offset``; ``[plant.initial]`` parameters (the initial
+speed) like inputs. An ``accel_command`` FMU gets
 ``throttle * accel_gain_mps2 - brake * brake_gain_mps2`` (m/s²). Wheel
 speeds in m/s are the wheel outputs (rad/s) × ``wheel_radius_m``, or the
 vehicle speed on every wheel when the FMU has no wheel outputs.
@@ -33,6 +34,10 @@ from ..scenarios.config import PlantConfig, SignalMap
 log = logging.getLogger(__name__)
 
 _STATUS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
+#: the run's warning when ``wheel_speeds_mapped`` is False
+DERIVED_WHEEL_SPEEDS = ("plant.outputs.wheel_speeds is not mapped: every wheel speed is the vehicle speed,"
+                        " so ABS wheel slip is invisible to the ECU (its speed estimate and the result can"
+                        " differ from a plant with wheel outputs)")
 _REAL_TYPES = ("Real", "Float64", "Float32")
 
 
@@ -112,6 +117,10 @@ class FmuPlant:
         out = {m.role: (m, _resolve(md, m.names, "output", f"plant.outputs.{m.role}")) for m in cfg.outputs}
         self._params = [(v, cfg.parameters[v.name]) for v in
                         _resolve(md, tuple(cfg.parameters), "parameter", "plant.parameters")]
+        if cfg.initial_speed_mps > 0.0:  # [plant.initial] speed: fmu = speed * scale + offset
+            for m in cfg.initial:
+                var = _resolve(md, m.names, "parameter", f"plant.initial.{m.role}")[0]
+                self._params.append((var, cfg.initial_speed_mps * m.scale + m.offset))
         self._out_maps = [out[r][0] for r in ("position", "speed", "accel", "wheel_speeds") if r in out]
         out_vrs = [v.valueReference for r in ("position", "speed", "accel", "wheel_speeds") if r in out
                    for v in out[r][1]]
@@ -127,6 +136,7 @@ class FmuPlant:
             conv[m.role] = [(i + j, m.scale, m.offset) for j in range(len(m.names))]
             i += len(m.names)
         radius = cfg.wheel_radius_m
+        self.wheel_speeds_mapped = "wheel_speeds" in conv  # False: derived from the speed (no ABS slip)
         wheels = [(j, s * radius, o * radius) for j, s, o in conv["wheel_speeds"]] if "wheel_speeds" in conv \
             else conv["speed"]  # fewer than 4 names: repeated in order; none: the speed on every wheel
         self._read_conv = (conv["position"][0], conv["speed"][0], conv["accel"][0] if "accel" in conv else None,

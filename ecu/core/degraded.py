@@ -7,9 +7,10 @@ in FAULT, the stopping path is still checked with whatever remains valid,
 and the contingency (full braking, held until standstill) is invoked when it
 is not disjoint:
 
-* the object track must be usable: not timed out, E2E score below the
-  limit, no rate or sequence fault, and not stamped after the cycle time. Without it
-  there is nothing to brake for, and no braking is started (as before);
+* the object must be in our path (:mod:`ecu.core.relevance`) and its track
+  usable: not timed out, E2E score below the limit, no rate or sequence
+  fault, and not stamped after the cycle time. Without it there is nothing
+  to brake for, and no braking is started (as before);
 * speed: the wheel-speed estimate if the wheels are usable and agree with
   the radar; otherwise the radar's closing speed ``v_c = max(0, -range_rate)``
   toward the object, stopping to zero *relative* speed (the object keeps its
@@ -33,6 +34,7 @@ data, and braking is only ever started from valid radar data.
 from __future__ import annotations
 
 from .params import CoreParams
+from .relevance import in_path
 from .stopping_path import closing_speed_mps, stopping_distance_m
 from .strategies import driver_accel_mps2
 from .types import CoreInputs, FaultFlag
@@ -50,6 +52,11 @@ def object_usable(inputs: CoreInputs, params: CoreParams) -> bool:
     )
 
 
+def relevant_track(inputs: CoreInputs, params: CoreParams) -> bool:
+    """A valid object in our path (:mod:`ecu.core.relevance`) from a usable track."""
+    return inputs.object_valid and in_path(inputs.object_lateral_m, params) and object_usable(inputs, params)
+
+
 def radar_closing_speed_mps(inputs: CoreInputs) -> float:
     """The radar's closing speed toward the object (m/s), 0 when it moves away."""
     return max(0.0, -inputs.object_range_rate_mps)
@@ -58,7 +65,7 @@ def radar_closing_speed_mps(inputs: CoreInputs) -> float:
 def release_speed_mps(speed_mps: float, wheels_ok: bool, inputs: CoreInputs, params: CoreParams) -> float:
     """The speed a held contingency waits to fall to standstill: without usable wheels, never below the
     closing speed of a usable track."""
-    if wheels_ok or not (inputs.object_valid and object_usable(inputs, params)):
+    if wheels_ok or not relevant_track(inputs, params):
         return speed_mps
     return max(speed_mps, radar_closing_speed_mps(inputs))
 
@@ -66,7 +73,7 @@ def release_speed_mps(speed_mps: float, wheels_ok: bool, inputs: CoreInputs, par
 def degraded_brake(speed_mps: float, wheels_ok: bool, driver_ok: bool, inputs: CoreInputs,
                    params: CoreParams) -> bool:
     """Whether the degraded check invokes the contingency this cycle (see the module doc)."""
-    if not (inputs.object_valid and object_usable(inputs, params)):
+    if not relevant_track(inputs, params):
         return False
     if wheels_ok:
         v = closing_speed_mps(speed_mps, inputs.object_range_rate_mps, params)

@@ -31,6 +31,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 from .params import CoreParams
+from .relevance import in_path
 from .types import CoreInputs, CoreState, FaultFlag
 
 #: tolerance on time comparisons, as in :mod:`ecu.core.validity`
@@ -61,8 +62,10 @@ def pedals_implausible(accel_pedal: float, brake_pedal: float, params: CoreParam
 
 
 def speed_radar_implausible(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> bool:
-    """A valid object closes faster than our speed estimate plus the tolerance."""
-    return inputs.object_valid and -inputs.object_range_rate_mps > speed_mps + params.radar_speed_tolerance_mps
+    """A valid object in our path closes faster than our speed estimate plus the tolerance
+    (out-of-path objects, e.g. oncoming traffic in the next lane, are not compared)."""
+    return (inputs.object_valid and in_path(inputs.object_lateral_m, params)
+            and -inputs.object_range_rate_mps > speed_mps + params.radar_speed_tolerance_mps)
 
 
 def clock_implausible(inputs: CoreInputs) -> bool:

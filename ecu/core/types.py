@@ -69,6 +69,7 @@ class CoreInputs(NamedTuple):
     wheel_e2e_score: int = 0
     driver_e2e_score: int = 0
     object_e2e_score: int = 0
+    object_lateral_m: float = 0.0  # the object's centre offset from our path, left positive
     #: receiver faults of each input as FaultFlag bits (RATE, SEQUENCE), from can_dbc.Receiver.rx_flags
     wheel_rx_flags: int = 0
     driver_rx_flags: int = 0
