@@ -71,6 +71,7 @@ STATUS_ID = LAYOUTS["EcuStatus"].frame_id
 OVERRIDE_AUTH_ID = AUTHENTICATORS["SafetyOverride"]
 _channels = itertools.count()
 _POLL_S = 0.005
+_DRAIN_QUIET_S = 0.002
 
 
 class EcuLinkError(CosimError, RuntimeError):
@@ -241,7 +242,10 @@ class BusLink:
                 raise EcuLinkError(f"expected an ECU on {self.options.interface} {self.channel} within "
                                    f"{self.options.join_timeout_s} s, none joined")
             time.sleep(_POLL_S)
-        while self._recv(0.0) is not None:
+        # drop what came before the start, up to a quiet moment: a real-time ECU sends each
+        # SafetyOverride and its authenticator back to back, and a drain ending between the
+        # two would hand the gateway an authenticator without its frame (a false auth failure)
+        while self._recv(_DRAIN_QUIET_S if self.realtime and self._signer is not None else 0.0) is not None:
             pass
         self._t0 = time.perf_counter()
         self._last_rx_wall = time.monotonic()

@@ -50,6 +50,13 @@ def test_plausible_inputs_raise_nothing():
     assert out.fault_flags == 0
 
 
+def test_oncoming_traffic_in_the_next_lane_is_not_a_speed_radar_fault():
+    """Only an object in our path is compared with our speed (ecu.core.relevance)."""
+    oncoming = _inputs(0.12, range_m=100.0, rate=-45.0)._replace(object_lateral_m=3.5)
+    _, out = step(_settled(), oncoming, P)
+    assert out.fault_flags == 0 and out.mode == Mode.STANDBY
+
+
 def test_auth_failures_are_reported_but_do_not_fault():
     """A rejected forged frame leaves the authenticated stream trustworthy: flag, no FAULT."""
     _, out = step(_settled(), _inputs(0.12, node_flags=1 << FaultFlag.AUTH), P)
