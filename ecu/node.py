@@ -32,7 +32,8 @@ from collections import Counter
 
 import can
 
-from can_dbc import AUTHENTICATORS, LAYOUTS, CounterSequence, Receiver, SecOcSender, SecOcVerifier, load_key_file
+from can_dbc import (AUTHENTICATORS, LAYOUTS, CounterSequence, Frame, Receiver, SecOcSender, SecOcVerifier,
+                     load_key_file)
 
 from .bus_port import INPUT_MESSAGES, SIM_CLOCK, InputLatch, override_message, status_message
 from .config import EcuConfig
@@ -68,7 +69,7 @@ class EcuNode:
         self._override_counter = CounterSequence()
         self._status_counter = CounterSequence()
         self._cycle_index = 0
-        self._pending: list[can.Message] = []
+        self._pending: dict[str, Frame] = {}  # sim time: the latest checked frame of each message
         self.outputs: CoreOutputs | None = None
         self._errors: Counter[str] = Counter()
 
@@ -107,9 +108,21 @@ class EcuNode:
         return self._signer is not None
 
     def on_sim_message(self, msg: can.Message) -> CoreOutputs | None:
-        """Sim-time pacing: buffer ``msg``; a valid ``SimClock`` frame runs one cycle at SimTimeMs."""
+        """Sim-time pacing: check ``msg`` now; a valid ``SimClock`` frame runs one cycle at SimTimeMs.
+
+        A checked input frame waits for the next ``SimClock``, which gives its receive
+        time; only the latest frame of each message waits (the latch keeps only the
+        latest anyway), so a flood between two clocks costs no memory (finding 5 of
+        issue 15). The rate checks stamp it with the cycle it belongs to: the last
+        accepted clock + one cycle.
+        """
         if msg.arbitration_id not in self._clock_ids or msg.is_extended_id:
-            self._pending.append(msg)
+            t_next = None if self._last_clock_s is None else self._last_clock_s + self.config.cycle_s
+            frame = self._receiver.receive(msg, t_next)
+            if frame is not None:
+                self._pending[frame.name] = frame
+            elif msg.arbitration_id in _FOREIGN_IDS:
+                self._foreign(0.0 if t_next is None else t_next)
             return None
         frame = self._receiver.receive(msg)
         if frame is None or frame.name != SIM_CLOCK:
@@ -117,9 +130,9 @@ class EcuNode:
         t_s = frame.signals["SimTimeMs"] / 1000.0
         if not self._clock_advances(t_s):
             return None
-        pending, self._pending = self._pending, []
-        for earlier in pending:
-            self._ingest(earlier, t_s)
+        pending, self._pending = self._pending, {}
+        for earlier in pending.values():
+            self._latch.ingest(earlier, t_s)
         return self._cycle(t_s)
 
     def run(self, stop_event: threading.Event) -> RunReport:
@@ -150,8 +163,12 @@ class EcuNode:
         if frame is not None:
             self._latch.ingest(frame, t_s)
         elif msg.arbitration_id in _FOREIGN_IDS:
-            self._flag_t_s[FaultFlag.FOREIGN_OVERRIDE] = t_s
-            self._errors["foreign_overrides"] += 1
+            self._foreign(t_s)
+
+    def _foreign(self, t_s: float) -> None:
+        """A SafetyOverride (or its authenticator) that this ECU did not send: panda's relay malfunction."""
+        self._flag_t_s[FaultFlag.FOREIGN_OVERRIDE] = t_s
+        self._errors["foreign_overrides"] += 1
 
     def _node_flags(self, t_s: float) -> int:
         """CLOCK, AUTH and FOREIGN_OVERRIDE while within FLAG_HOLD_S of their last finding."""

@@ -135,14 +135,9 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     plan = plan_cycle(speed, inputs, params)
     contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
         state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
-    decision = next_mode(
-        fault,
-        planned_mode(plan.disjoint, plan.tightening_restricts),
-        state.valid_cycles,
-        contingency_active,
-        release_speed_mps(speed, wheels_ok, inputs, params) <= params.standstill_speed_mps,
-        params,
-    )
+    decision = next_mode(fault, planned_mode(plan.disjoint, plan.tightening_restricts), state.valid_cycles,
+                         contingency_active, release_speed_mps(speed, wheels_ok, inputs, params)
+                         <= params.standstill_speed_mps, params)
     throttle, decel = _commands(decision, plan, params)
     if fault and decel < params.contingency_decel_mps2 and degraded_brake(
             speed, wheels_ok, driver_ok, inputs, params):

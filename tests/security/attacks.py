@@ -41,16 +41,16 @@ def attacked_run(fmu, strategy: str, authenticate: bool,
     link = loop.link
     send, collect = link.send, link.collect
 
-    def attacked_send(t_s, cycle, frames, cost):
+    def attacked_send(t_s, cycle, frames, *rest):  # (*rest: the older link API's cost argument)
         for msg in to_ecu(t_s, cycle):
             link._bus.send(msg)
-        extra = send(t_s, cycle, frames, cost)
+        extra = send(t_s, cycle, frames, *rest)
         if watch is not None:
             watch(t_s, link.node.outputs)
         return extra
 
-    def attacked_collect(t_s, cycle, cost):
-        genuine = collect(t_s, cycle, cost)
+    def attacked_collect(t_s, cycle, *rest):
+        genuine = collect(t_s, cycle, *rest)
         forged = to_gateway(t_s, cycle, genuine)
         for msg in forged:
             link._bus.send(msg)  # the ECU sees them on its bus next cycle

@@ -1,0 +1,94 @@
+"""Lock-step with an ECU on a bus: each cycle one round trip, the ECU cycling on ``SimClock``.
+
+Each cycle the master sends its frames, then ``SimClock`` (``SimTimeMs =
+round(t * 1000)``); the ECU (``crd ecu --sim-time``) runs one cycle on it,
+after the frames before it, and the master waits up to ``reply_timeout_s``
+(wall time) for that cycle's ``SafetyOverride`` (and, for a spawned ECU, the
+``EcuStatus`` due in that cycle) before it advances. The ECU sees the same
+frames at the same cycle times as in process, so metrics and time series are
+identical. No reply in time: ``ecu_lost``, and the master stops waiting.
+"""
+
+from __future__ import annotations
+
+import time
+
+import can
+
+from can_dbc import AUTHENTICATORS, LAYOUTS, CounterSequence, SecOcSender, encode
+from ecu import EcuConfig
+
+from .bus_endpoint import BusEndpoint
+from .ecu_link import EcuOptions, LinkReport
+
+OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
+STATUS_ID = LAYOUTS["EcuStatus"].frame_id
+OVERRIDE_AUTH_ID = AUTHENTICATORS["SafetyOverride"]
+
+
+class LockStepLink:
+    """An :class:`~cosim.link.ecu_link.EcuLink` over a bus in simulated time (process or attach)."""
+
+    realtime = False
+
+    def __init__(self, options: EcuOptions, config: EcuConfig, key: bytes | None = None) -> None:
+        self.options = options
+        self.endpoint = BusEndpoint(options, config, key)
+        self._signer = SecOcSender(key) if key is not None else None
+        self.events = self.endpoint.events
+        self._status_period = config.status_period_cycles if options.mode == "process" else None
+        self._clock_seq = CounterSequence()
+
+    # what tests and the CLI look at: the spawned process, the bus, whether the ECU was lost
+    pid = property(lambda self: self.endpoint.pid)
+    process = property(lambda self: self.endpoint.process)
+    bus = property(lambda self: self.endpoint.bus)
+    lost = property(lambda self: self.endpoint.lost)
+
+    def start(self) -> None:
+        self.endpoint.join(first_frame_joins=False)
+
+    def pace(self, cycle: int) -> None:
+        pass
+
+    def send(self, t_s: float, cycle: int, frames: list[can.Message]) -> list[can.Message]:
+        """Send ``frames``, then ``SimClock``; returns ``[SimClock]``."""
+        endpoint = self.endpoint
+        for msg in frames:
+            endpoint.send(msg, t_s)
+        clock = encode("SimClock", {"SimTimeMs": int(round(t_s * 1000.0))}, self._clock_seq.next())
+        endpoint.send(clock, t_s)
+        if self._signer is None:
+            return [clock]
+        auth = self._signer.authenticator(clock)  # SecOC: the clock's authenticator right after it
+        endpoint.send(auth, t_s)
+        return [clock, auth]
+
+    def collect(self, t_s: float, cycle: int) -> list[can.Message]:
+        """Wait (bounded) for this cycle's reply, then take anything else already there."""
+        endpoint, received = self.endpoint, []
+        if endpoint.lost:
+            return endpoint.drain(t_s, received)
+        wanted = {OVERRIDE_ID} if self._signer is None else {OVERRIDE_ID, OVERRIDE_AUTH_ID}
+        if self._status_period is not None and cycle % self._status_period == 0:
+            wanted.add(STATUS_ID)
+        # without a peer count the first reply wait is the join wait
+        first = cycle == 0 and endpoint.peers is None
+        wait_s = self.options.join_timeout_s if first else self.options.reply_timeout_s
+        deadline = time.monotonic() + wait_s
+        while wanted and not endpoint.lost:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0.0:
+                endpoint.lose(t_s, f"no SafetyOverride for t = {t_s:.3f} s within {wait_s} s wall time")
+                break
+            msg = endpoint.recv(remaining, t_s)
+            if msg is not None:
+                received.append(msg)
+                wanted.discard(msg.arbitration_id)
+        return endpoint.drain(t_s, received)  # e.g. a second ECU's frames
+
+    def report(self) -> LinkReport:
+        return LinkReport(ecu_report=self.endpoint.ecu_report, join_wait_s=self.endpoint.join_wait_s)
+
+    def close(self) -> None:
+        self.endpoint.close()
