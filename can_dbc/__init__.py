@@ -10,7 +10,7 @@ validity score per message. See ``docs/CONTRACTS.md``.
 from .codec import encode, encode_payload
 from .counter import COUNTER_MODULUS, CounterSequence
 from .crc import crc8_j1850, e2e_p01_crc
-from .database import DATABASE, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_time_s, e2e_signal_names, signal_layout
+from .database import AUTHENTICATORS, DATABASE, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_time_s, e2e_signal_names, signal_layout
 from .contract import (
     BRAKE_DECEL_MAX_MPS2,
     ECU_CYCLE_S,
@@ -23,6 +23,9 @@ from .contract import (
     timeout_s,
 )
 from .errors import (
+    AuthError,
+    FreshnessError,
+    KeyFileError,
     ChecksumError,
     ConfigError,
     CounterError,
@@ -34,9 +37,12 @@ from .errors import (
     SignalError,
     UnknownFrame,
 )
-from .receiver import Frame, Receiver
+from .receiver import RX_RATE, RX_SEQUENCE, SYNC_FRAMES, Frame, Receiver
+from .secoc import SecOcSender, SecOcVerifier, generate_key, load_key_file, write_key_file
 
 __all__ = [
+    "AUTHENTICATORS", "AuthError", "FreshnessError", "KeyFileError", "RX_RATE", "RX_SEQUENCE", "SYNC_FRAMES",
+    "SecOcSender", "SecOcVerifier", "generate_key", "load_key_file", "write_key_file",
     "BRAKE_DECEL_MAX_MPS2", "ECU_CYCLE_S", "MODE_NAMES", "STRATEGIES", "STRATEGY_CODES",
     "ConfigError", "enumeration", "signal_dbc_per_si", "signal_range", "timeout_s",
     "COUNTER_MODULUS", "DATABASE", "DBC_PATH", "LAYOUTS", "LAYOUTS_BY_ID",

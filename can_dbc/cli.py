@@ -3,7 +3,9 @@
 ``crd dbc show`` prints every message with its ID, sender, cycle time and
 signals (unit, range, resolution, enumeration labels). ``crd dbc decode LOG``
 reads a BLF/ASC/CSV log with python-can's readers and prints each frame after
-the contract's checks, with rejected frames named by their error.
+the contract's checks, with rejected frames named by their error. SecOC
+authenticator frames are verified with ``--key-file``; without it their freshness
+and MAC are printed unverified (a run's fresh per-run key is never stored).
 ``crd dbc export --format arxml|kcd|sym OUT`` writes the contract for other
 tools (:mod:`can_dbc.export`).
 """
@@ -14,10 +16,13 @@ import argparse
 
 import can
 
-from .database import DATABASE, LAYOUTS
+from .database import AUTHENTICATORS, DATABASE, LAYOUTS
 from .errors import FrameError
 from .export import FORMATS, export
 from .receiver import Receiver
+from .secoc import SecOcVerifier, load_key_file
+
+_AUTH_NAMES = {fid: name + "Auth" for name, fid in AUTHENTICATORS.items()}
 
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
@@ -29,6 +34,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     decode = sub.add_parser("decode", help="decode a CAN log (.blf, .asc, .csv) with E2E checks")
     decode.add_argument("log", help="log file; the format follows its suffix")
     decode.add_argument("--limit", type=int, default=0, help="stop after this many frames (0: all)")
+    decode.add_argument("--key-file", help="SecOC key file: verify the authenticator frames")
     decode.set_defaults(func=_do_decode)
     exp = sub.add_parser("export", help="write the contract as AUTOSAR 4 ARXML, KCD or SYM")
     exp.add_argument("out", help="output file")
@@ -45,6 +51,8 @@ def _do_show(args: argparse.Namespace) -> int:
             rng = f"{sig.minimum:g}..{sig.maximum:g}"
             enum = f" {_labels(layout.name, sig.name)}" if sig.choices else ""
             print(f"    {sig.name:<20} {sig.unit or '-':<6} {rng:<16} res {sig.scale:g}{enum}")
+    for name, fid in AUTHENTICATORS.items():
+        print(f"0x{fid:03X} {name + 'Auth':<15} SecOC authenticator of {name}: Freshness (16 bit), Mac (48 bit)")
     return 0
 
 
@@ -63,19 +71,35 @@ def _do_export(args: argparse.Namespace) -> int:
     return 0
 
 
+def _unverified(msg: can.Message) -> str:
+    data = bytes(msg.data)
+    return (f"{_AUTH_NAMES[msg.arbitration_id]} Freshness {int.from_bytes(data[:2], 'little')} "
+            f"Mac {data[2:8].hex()} (not verified: no --key-file)")
+
+
+def _text(receiver: Receiver, msg: can.Message) -> str:
+    try:
+        frame = receiver.check(msg)
+    except FrameError as exc:
+        return f"REJECTED {type(exc).__name__}: {exc}"
+    if frame is None:
+        return "held for its authenticator"
+    return f"{frame.name} {dict(frame.signals)}" + ("" if frame.fresh else " (repeat)")
+
+
 def _do_decode(args: argparse.Namespace) -> int:
-    receiver = Receiver()
+    verifier = SecOcVerifier(load_key_file(args.key_file)) if args.key_file else None
+    receiver = Receiver(secoc=verifier)
     count = 0
     with can.LogReader(args.log) as reader:
         for msg in reader:
-            try:
-                frame = receiver.check(msg)
-                text = f"{frame.name} {dict(frame.signals)}" + ("" if frame.fresh else " (repeat)")
-            except FrameError as exc:
-                text = f"REJECTED {type(exc).__name__}: {exc}"
+            if verifier is None and msg.arbitration_id in _AUTH_NAMES and not msg.is_extended_id:
+                text = _unverified(msg)
+            else:
+                text = _text(receiver, msg)
             print(f"{msg.timestamp:12.3f} 0x{msg.arbitration_id:03X} {text}")
             count += 1
             if args.limit and count >= args.limit:
                 break
-    print(f"{count} frames; rejected: {dict((k, v) for k, v in receiver.stats.items() if k not in ('good',))}")
+    print(f"{count} frames; rejected: {dict((k, v) for k, v in receiver.stats.items() if k not in ('good', 'authenticated'))}")
     return 0

@@ -6,6 +6,10 @@
 table that lets :mod:`can_dbc.codec` and :mod:`can_dbc.receiver` encode and
 decode a frame with integer shifts and masks only. All messages are classic
 CAN, 11-bit IDs, DLC 8, little-endian (Intel) signals.
+
+The SecOC authenticator messages (attribute ``SecOCAuthenticates``, see
+:mod:`can_dbc.secoc`) carry no E2E header; they are kept out of ``LAYOUTS``
+and listed in ``AUTHENTICATORS`` (protected message name -> authenticator ID).
 """
 
 from __future__ import annotations
@@ -130,9 +134,22 @@ def _message_layout(message) -> MessageLayout:
     )
 
 
+def _authenticates(message) -> int | None:
+    attribute = message.dbc.attributes.get("SecOCAuthenticates") if message.dbc else None
+    return int(attribute.value) if attribute is not None and int(attribute.value) else None
+
+
 LAYOUTS: Mapping[str, MessageLayout] = MappingProxyType(
-    {m.name: _message_layout(m) for m in DATABASE.messages}
+    {m.name: _message_layout(m) for m in DATABASE.messages if _authenticates(m) is None}
 )
+#: protected message name -> the arbitration ID of its SecOC authenticator frame.
+AUTHENTICATORS: Mapping[str, int] = MappingProxyType(
+    {DATABASE.get_message_by_frame_id(_authenticates(m)).name: m.frame_id
+     for m in DATABASE.messages if _authenticates(m) is not None}
+)
+#: messages sent periodically (``GenMsgSendType`` Cyclic); only these are rate-monitored.
+CYCLIC: frozenset[str] = frozenset(m.name for m in DATABASE.messages
+                                   if m.send_type != "OnEvent" and m.name in LAYOUTS)
 LAYOUTS_BY_ID: Mapping[int, MessageLayout] = MappingProxyType(
     {layout.frame_id: layout for layout in LAYOUTS.values()}
 )

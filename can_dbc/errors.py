@@ -9,7 +9,9 @@ Hierarchy::
     ├── CounterError                 E2E counter invalid (15) or jumped by more than 2
     ├── DecodeError                  the payload cannot be decoded
     ├── RangeError                   a signal outside its DBC [min, max]
-    └── EnumError                    an enumeration value not declared with VAL_
+    ├── EnumError                    an enumeration value not declared with VAL_
+    └── AuthError                    SecOC: missing authenticator or MAC mismatch
+        └── FreshnessError           SecOC: the MAC verifies only for an old freshness value (a replay)
     SignalError (ValueError)         ``encode`` was given missing, unknown or out-of-range signals
     ConfigError (ValueError)         a configuration key is unknown, out of range or contradicts
                                      the contract; the one base class for can_dbc, ecu and cosim
@@ -51,6 +53,18 @@ class RangeError(FrameError):
 
 class EnumError(FrameError):
     """A decoded enumeration value is not declared in the DBC."""
+
+
+class AuthError(FrameError):
+    """SecOC: the frame's authenticator is missing or its MAC does not verify."""
+
+
+class FreshnessError(AuthError):
+    """SecOC: the MAC is genuine but its freshness value was already used (a replay)."""
+
+
+class KeyFileError(ValueError):
+    """A SecOC key file is missing, malformed or readable by others."""
 
 
 class SignalError(ValueError):

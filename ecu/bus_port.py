@@ -19,7 +19,7 @@ from typing import Callable, Mapping
 
 import can
 
-from can_dbc import Frame, Receiver, encode, signal_range
+from can_dbc import RX_RATE, RX_SEQUENCE, Frame, Receiver, encode, signal_range
 from can_dbc.units import KMH_PER_MPS, PERCENT
 
 from .core import CoreInputs, CoreOutputs
@@ -35,7 +35,19 @@ FAULT_SIGNALS: dict[FaultFlag, str] = {
     FaultFlag.OBJECT_TIMEOUT: "FaultObjectTimeout",
     FaultFlag.E2E_ERROR: "FaultE2E",
     FaultFlag.INTERNAL: "FaultInternal",
+    # issue 15: receiver, plausibility and node checks
+    FaultFlag.RATE: "FaultRate",
+    FaultFlag.WHEEL_SLIP: "FaultWheelSlip",
+    FaultFlag.SPEED_RADAR: "FaultSpeedRadar",
+    FaultFlag.PEDALS: "FaultPedals",
+    FaultFlag.CLOCK: "FaultClock",
+    FaultFlag.AUTH: "FaultAuth",
+    FaultFlag.FOREIGN_OVERRIDE: "FaultForeignOverride",
+    FaultFlag.SEQUENCE: "FaultSequence",
 }
+#: can_dbc.Receiver.rx_flags value -> the core's FaultFlag bits
+_RX_FAULTS = tuple((RX_RATE & v and 1 << FaultFlag.RATE) | (RX_SEQUENCE & v and 1 << FaultFlag.SEQUENCE)
+                   for v in range(4))
 
 
 def fault_signals(fault_flags: int) -> dict[str, int]:
@@ -91,9 +103,9 @@ class InputLatch:
         self.object_range_rate_mps = s["ObjectRangeRate"]
         self.object_lateral_m = s["ObjectLateral"]
 
-    def inputs(self, t_s: float, receiver: Receiver) -> CoreInputs:
-        """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores."""
-        rx, score = self.rx_t_s, receiver.score
+    def inputs(self, t_s: float, receiver: Receiver, node_flags: int = 0) -> CoreInputs:
+        """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores and rate/sequence flags."""
+        rx, score, rx_flags = self.rx_t_s, receiver.score, receiver.rx_flags
         # positional, in CoreInputs' field order: built every cycle, and binding 14 keywords costs more
         return CoreInputs(
             t_s, self.wheel_speeds_mps, self.accel_pedal, self.brake_pedal, self.object_valid,
@@ -101,6 +113,8 @@ class InputLatch:
             rx["WheelSpeeds"], rx["DriverInput"], rx["ObjectTrack"],
             score("WheelSpeeds"), score("DriverInput"), score("ObjectTrack"),
             self.object_lateral_m,
+            _RX_FAULTS[rx_flags("WheelSpeeds", t_s)], _RX_FAULTS[rx_flags("DriverInput", t_s)],
+            _RX_FAULTS[rx_flags("ObjectTrack", t_s)], node_flags,
         )
 
 

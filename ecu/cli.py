@@ -20,6 +20,9 @@ from can_dbc.contract import STRATEGIES
 from .config import EcuConfig
 from .node import EcuNode
 
+#: exit status of a run that saw frames failing authentication or a foreign SafetyOverride
+EXIT_SECURITY = 4
+
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("ecu", help="run the active-safety ECU on a CAN interface")
@@ -28,6 +31,8 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--strategy", choices=sorted(STRATEGIES), help="override the config's strategy")
     parser.add_argument("--config", help="TOML file with the ECU settings (top level or [ecu])")
     parser.add_argument("--sim-time", action="store_true", help="one cycle per SimClock frame")
+    parser.add_argument("--key-file", help="SecOC key file (32 hex digits, mode 0600): authenticate inputs "
+                        "and SafetyOverride (default: the config's key_file; none: E2E protection only)")
     parser.add_argument("--bitrate", type=int, help="bus bitrate in bit/s, for interfaces that take one")
     parser.set_defaults(func=_do_ecu)
 
@@ -39,6 +44,8 @@ def _config(args: argparse.Namespace) -> EcuConfig:
         changes["strategy"] = args.strategy
     if args.sim_time:
         changes["sim_time"] = True
+    if args.key_file:
+        changes["key_file"] = args.key_file
     return dataclasses.replace(config, **changes) if changes else config
 
 
@@ -55,8 +62,13 @@ def _do_ecu(args: argparse.Namespace) -> int:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
     stats = node.stats
+    auth_failures = stats.get("AuthError", 0) + stats.get("FreshnessError", 0)
     rejected = sum(v for k, v in stats.items() if k == "UnknownFrame" or k.endswith("Error"))
     print(f"ecu {config.strategy}: final mode {node.mode}; {report.summary()}; "
           f"frames good {stats.get('good', 0)}, rejected {rejected}, "
-          f"gate interventions {stats['gate_interventions']}")
-    return 0
+          f"gate interventions {stats['gate_interventions']}"
+          + (f"; authenticated {stats.get('authenticated', 0)}, authentication failures {auth_failures}"
+             if node.authenticated else "")
+          + (f"; clock errors {stats['clock_errors']}" if stats.get("clock_errors") else "")
+          + (f"; foreign SafetyOverride frames {stats['foreign_overrides']}" if stats.get("foreign_overrides") else ""))
+    return EXIT_SECURITY if auth_failures or stats.get("foreign_overrides") else 0

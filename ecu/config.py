@@ -75,6 +75,11 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
     "e2e_invalid_score": (1, 5, True),
     "fault_recovery_cycles": (1, 100_000, True),
     "status_period_cycles": (1, 100_000, True),
+    "wheel_slip_abs_mps": (0.0, 100.0, True),
+    "wheel_slip_fraction": (0.0, 1.0, True),
+    "radar_speed_tolerance_mps": (0.0, 100.0, True),
+    "pedal_conflict_fraction": (0.0, 1.0, True),
+    "degraded_decel_fraction": (0.0, 1.0, False),
 }
 _CHOICES: dict[str, tuple[str, ...]] = {
     "strategy": STRATEGIES,
@@ -91,6 +96,8 @@ class EcuConfig(CoreParams):
     status_period_cycles: int = STATUS_PERIOD_CYCLES
     #: run() performs one cycle per received ``SimClock`` frame instead of on the wall clock.
     sim_time: bool = False
+    #: SecOC key file (32 hex digits, mode 0600; ``can_dbc.secoc``); empty: E2E protection only.
+    key_file: str = ""
 
     def __post_init__(self) -> None:
         _validate(self, "ecu")

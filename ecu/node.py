@@ -13,6 +13,15 @@ frames (``config.sim_time``), all through :meth:`EcuNode.run`.
 Fail safe inside the cycle: an exception in the core is logged and answered
 with a FAULT frame (``ThrottleLimit 0``, internal fault flag; a contingency
 in progress keeps braking); a send error is counted and logged.
+
+Issue 15: frames are rate-monitored at their cycle time; with a key
+(``key`` or ``config.key_file``) every input and ``SimClock`` must carry a
+valid SecOC authenticator and ``SafetyOverride`` is sent with one
+(:mod:`can_dbc.secoc`). The node's own findings become fault flags held for
+``FLAG_HOLD_S``: ``AUTH`` (a frame failed authentication), ``FOREIGN_OVERRIDE``
+(a ``SafetyOverride`` on the bus that this ECU did not send: panda's relay-
+malfunction rule) and ``CLOCK`` (a ``SimClock`` that does not advance by
+1..``MAX_CLOCK_STEP_CYCLES`` cycles is rejected: no cycle runs on it).
 """
 
 from __future__ import annotations
@@ -23,7 +32,8 @@ from collections import Counter
 
 import can
 
-from can_dbc import LAYOUTS, CounterSequence, Frame, Receiver
+from can_dbc import (AUTHENTICATORS, LAYOUTS, CounterSequence, Frame, Receiver, SecOcSender, SecOcVerifier,
+                     load_key_file)
 
 from .bus_port import INPUT_MESSAGES, SIM_CLOCK, InputLatch, override_message, status_message
 from .config import EcuConfig
@@ -32,15 +42,28 @@ from .scheduler import RunReport, run_real_time, run_sim_time
 
 log = logging.getLogger(__name__)
 SIM_CLOCK_ID = LAYOUTS[SIM_CLOCK].frame_id
+_FOREIGN_IDS = frozenset((LAYOUTS["SafetyOverride"].frame_id, AUTHENTICATORS["SafetyOverride"]))
+#: how long (s of cycle time) a node finding keeps its fault flag set
+FLAG_HOLD_S = 1.0
+#: a SimClock may advance by 1 .. this many ECU cycles (E2E tolerates two lost frames likewise)
+MAX_CLOCK_STEP_CYCLES = 3
 
 
 class EcuNode:
     """The active-safety ECU on ``bus``. It does not own the bus (the caller shuts it down)."""
 
-    def __init__(self, bus: can.BusABC, config: EcuConfig | None = None) -> None:
+    def __init__(self, bus: can.BusABC, config: EcuConfig | None = None, key: bytes | None = None) -> None:
         self.bus = bus
         self.config = config if config is not None else EcuConfig()
-        self._receiver = Receiver(names=(*INPUT_MESSAGES, SIM_CLOCK))
+        if key is None and self.config.key_file:
+            key = load_key_file(self.config.key_file)
+        self._signer = SecOcSender(key) if key is not None else None
+        self._receiver = Receiver(names=(*INPUT_MESSAGES, SIM_CLOCK),
+                                  secoc=SecOcVerifier(key) if key is not None else None)
+        self._clock_ids = {SIM_CLOCK_ID} | ({AUTHENTICATORS[SIM_CLOCK]} if key is not None else set())
+        self._last_clock_s: float | None = None
+        self._flag_t_s: dict[int, float] = {}
+        self._auth_failures = 0
         self._latch = InputLatch()
         self._state = CoreState()
         self._override_counter = CounterSequence()
@@ -79,23 +102,34 @@ class EcuNode:
             self._ingest(msg, t_s)
         return self._cycle(t_s)
 
+    @property
+    def authenticated(self) -> bool:
+        """Whether this node requires and sends SecOC authenticators."""
+        return self._signer is not None
+
     def on_sim_message(self, msg: can.Message) -> CoreOutputs | None:
         """Sim-time pacing: check ``msg`` now; a valid ``SimClock`` frame runs one cycle at SimTimeMs.
 
         A checked input frame waits for the next ``SimClock``, which gives its receive
         time; only the latest frame of each message waits (the latch keeps only the
-        latest anyway, and the receiver's checks do not depend on time), so a flood
-        between two clocks costs no memory (finding 5 of issue 15).
+        latest anyway), so a flood between two clocks costs no memory (finding 5 of
+        issue 15). The rate checks stamp it with the cycle it belongs to: the last
+        accepted clock + one cycle.
         """
-        if msg.arbitration_id != SIM_CLOCK_ID or msg.is_extended_id:
-            frame = self._receiver.receive(msg)
+        if msg.arbitration_id not in self._clock_ids or msg.is_extended_id:
+            t_next = None if self._last_clock_s is None else self._last_clock_s + self.config.cycle_s
+            frame = self._receiver.receive(msg, t_next)
             if frame is not None:
                 self._pending[frame.name] = frame
+            elif msg.arbitration_id in _FOREIGN_IDS:
+                self._foreign(0.0 if t_next is None else t_next)
             return None
         frame = self._receiver.receive(msg)
-        if frame is None:
+        if frame is None or frame.name != SIM_CLOCK:
             return None
         t_s = frame.signals["SimTimeMs"] / 1000.0
+        if not self._clock_advances(t_s):
+            return None
         pending, self._pending = self._pending, {}
         for earlier in pending.values():
             self._latch.ingest(earlier, t_s)
@@ -111,13 +145,46 @@ class EcuNode:
         """Check one received frame now and latch it as received at cycle time ``t_s``."""
         self._ingest(msg, t_s)
 
+    def _clock_advances(self, t_s: float) -> bool:
+        """A SimClock must advance by 1..MAX_CLOCK_STEP_CYCLES cycles; else it is rejected and flagged."""
+        last = self._last_clock_s
+        cycle = self.config.cycle_s
+        if last is not None and not (0.5 * cycle < t_s - last < (MAX_CLOCK_STEP_CYCLES + 0.5) * cycle):
+            self._errors["clock_errors"] += 1
+            self._flag_t_s[FaultFlag.CLOCK] = last
+            log.warning("SimClock %.3f s after %.3f s rejected (expected +1..%d cycles)",
+                        t_s, last, MAX_CLOCK_STEP_CYCLES)
+            return False
+        self._last_clock_s = t_s
+        return True
+
     def _ingest(self, msg: can.Message, t_s: float) -> None:
-        frame = self._receiver.receive(msg)
+        frame = self._receiver.receive(msg, t_s)
         if frame is not None:
             self._latch.ingest(frame, t_s)
+        elif msg.arbitration_id in _FOREIGN_IDS:
+            self._foreign(t_s)
+
+    def _foreign(self, t_s: float) -> None:
+        """A SafetyOverride (or its authenticator) that this ECU did not send: panda's relay malfunction."""
+        self._flag_t_s[FaultFlag.FOREIGN_OVERRIDE] = t_s
+        self._errors["foreign_overrides"] += 1
+
+    def _node_flags(self, t_s: float) -> int:
+        """CLOCK, AUTH and FOREIGN_OVERRIDE while within FLAG_HOLD_S of their last finding."""
+        stats = self._receiver.stats
+        failures = stats["AuthError"] + stats["FreshnessError"]
+        if failures != self._auth_failures:
+            self._auth_failures = failures
+            self._flag_t_s[FaultFlag.AUTH] = t_s
+        flags = 0
+        for bit, seen_t_s in self._flag_t_s.items():
+            if t_s - seen_t_s < FLAG_HOLD_S:
+                flags |= 1 << bit
+        return flags
 
     def _cycle(self, t_s: float) -> CoreOutputs:
-        inputs = self._latch.inputs(t_s, self._receiver)
+        inputs = self._latch.inputs(t_s, self._receiver, self._node_flags(t_s))
         try:
             self._state, outputs = core_step(self._state, inputs, self.config)
         except Exception:  # noqa: BLE001 - fail safe inside the cycle
@@ -125,7 +192,10 @@ class EcuNode:
             self._errors["internal_errors"] += 1
             outputs = self._internal_fault()
         self.outputs = outputs
-        self._send(override_message(outputs, self._override_counter.next()))
+        override = override_message(outputs, self._override_counter.next())
+        self._send(override)
+        if self._signer is not None:
+            self._send(self._signer.authenticator(override))
         if self._cycle_index % self.config.status_period_cycles == 0:
             self._send(status_message(outputs, self.config.strategy_code, self._status_counter.next()))
         self._cycle_index += 1

@@ -6,6 +6,15 @@ import argparse
 
 from ..link.ecu_link import ECU_MODES, EcuOptions
 from ..results.run_record import RunRecord
+from ..world.gateway import SECURITY_EVENTS
+
+#: exit status of a run in which frames failed authentication or a foreign SafetyOverride was seen
+EXIT_SECURITY = 4
+
+
+def security_exit(records: list[RunRecord]) -> int:
+    """``EXIT_SECURITY`` when any run recorded a security event (``auth_failure``, ``ecu_security_fault``), else 0."""
+    return EXIT_SECURITY if any(e.kind in SECURITY_EVENTS for r in records for e in r.events) else 0
 
 
 def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
@@ -22,6 +31,9 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
                    help="wall-clock bound on waiting for the ECU to join (default 10 s)")
     g.add_argument("--reply-timeout", type=float, default=1.0, metavar="S",
                    help="wall-clock bound on waiting for a cycle's SafetyOverride (default 1 s)")
+    g.add_argument("--key-file", metavar="F",
+                   help="SecOC key file (32 hex digits, mode 0600) shared with the ECU; default: a fresh key "
+                        "per run in process and for --ecu process; attach without it: E2E protection only")
     if realtime:
         g.add_argument("--realtime", action="store_true",
                        help="pace the co-simulation to the wall clock; the ECU runs on its own clock")
@@ -30,7 +42,7 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
 def ecu_options(args: argparse.Namespace) -> EcuOptions:
     return EcuOptions(mode=args.ecu, interface=args.bus_interface, channel=args.bus_channel,
                       realtime=getattr(args, "realtime", False), join_timeout_s=args.join_timeout,
-                      reply_timeout_s=args.reply_timeout)
+                      reply_timeout_s=args.reply_timeout, key_file=args.key_file)
 
 
 def timing_lines(records: list[RunRecord]) -> list[str]:
@@ -44,7 +56,7 @@ def timing_lines(records: list[RunRecord]) -> list[str]:
                          f"{t['jitter_p50_s'] * 1e3:.3f} p99 {t['jitter_p99_s'] * 1e3:.3f} "
                          f"max {t['jitter_max_s'] * 1e3:.3f} ms")
         for e in r.events:
-            if e.kind in ("ecu_lost", "second_ecu"):
+            if e.kind in ("ecu_lost", "second_ecu", *SECURITY_EVENTS):
                 lines.append(f"{r.strategy}: t={e.t_s:.3f} s {e.kind}: {e.detail}")
         if r.ecu_report:
             lines.append(f"{r.strategy}: {r.ecu_report.splitlines()[-1]}")

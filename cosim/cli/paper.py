@@ -3,7 +3,8 @@
 Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``,
 writes every run's outputs, ``speed_profiles.png`` and ``report.md``, prints a
 table and each claim of the paper with PASS or FAIL
-(:mod:`cosim.results.paper_claims`), and exits 3 if any claim fails.
+(:mod:`cosim.results.paper_claims`), and exits 3 if any claim fails, 4 if frames
+failed SecOC authentication (see ``crd run``).
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from pathlib import Path
 from ..loop.experiment import run_strategies
 from ..results.paper_claims import REQUIRED, evaluate, speed_trace_dance, verdicts
 from ..scenarios.loader import load_scenario
-from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
+from .ecu_options import add_ecu_arguments, ecu_options, security_exit, timing_lines
 from .progress import end_progress, progress_printer, results_table
 from .scenarios import find_scenario
 
@@ -56,4 +57,4 @@ def _do_paper(args: argparse.Namespace) -> int:
     print(f"[{'PASS' if trace.passed else 'FAIL'}] claim {trace.number} (reported, issue 14): {trace.text}\n"
           f"        {trace.detail}")
     print(f"\nspeed profiles: {args.out / 'speed_profiles.png'}; report: {args.out / 'report.md'}")
-    return 0 if all(c.passed for c in claims) else EXIT_CLAIM_FAILED
+    return security_exit(records) if all(c.passed for c in claims) else EXIT_CLAIM_FAILED

@@ -6,7 +6,8 @@
 ``report.md`` with the table, the checks, the plots and the resolved configuration.
 
 Exit status 0 when every ``[checks]`` expectation holds, 3 when one fails
-(each printed), 1 on an error (bad scenario, missing/broken FMU, FMI error:
+(each printed), 4 when frames failed SecOC authentication or a foreign
+``SafetyOverride`` was seen (``auth_failure``/``ecu_security_fault`` events), 1 on an error (bad scenario, missing/broken FMU, FMI error:
 results up to the error are still written).
 """
 
@@ -20,7 +21,7 @@ from ..loop.experiment import check_run, run_strategies
 from ..results.can_logs import LOG_FORMATS
 from ..scenarios.config import STRATEGIES
 from ..scenarios.loader import load_scenario
-from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
+from .ecu_options import add_ecu_arguments, ecu_options, security_exit, timing_lines
 from .progress import end_progress, progress_printer, results_table
 from .scenarios import find_scenario
 
@@ -57,4 +58,4 @@ def _do_run(args: argparse.Namespace) -> int:
     for message in failed:
         print(f"CHECK FAILED: {message}")
     print(f"report: {args.out / 'report.md'}")
-    return EXIT_CHECK_FAILED if failed else 0
+    return EXIT_CHECK_FAILED if failed else security_exit(records)

@@ -14,6 +14,7 @@ ECU's first frame.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import shutil
 import subprocess
@@ -24,6 +25,7 @@ from typing import Protocol, runtime_checkable
 
 import can
 
+from can_dbc import write_key_file
 from ecu import EcuConfig
 
 from ..results.run_record import RunEvent
@@ -32,6 +34,7 @@ from .ecu_process import EcuProcess
 
 log = logging.getLogger(__name__)
 _POLL_S = 0.005
+_DRAIN_QUIET_S = 0.002
 
 
 @runtime_checkable
@@ -44,8 +47,9 @@ class PeerCounting(Protocol):
 class BusEndpoint:
     """The bus, the spawned ECU (``--ecu process``) and the ECU-lost bookkeeping."""
 
-    def __init__(self, options: EcuOptions, config: EcuConfig) -> None:
+    def __init__(self, options: EcuOptions, config: EcuConfig, key: bytes | None = None) -> None:
         self.options = options
+        self.keyed = key is not None
         self.process: EcuProcess | None = None
         self.events: list[RunEvent] = []
         self.ecu_report = ""
@@ -63,6 +67,10 @@ class BusEndpoint:
             self.peers: PeerCounting | None = self.bus if isinstance(self.bus, PeerCounting) else None
             if options.mode == "process":
                 self._tmpdir = self._tmpdir or Path(tempfile.mkdtemp(prefix="crd-ecu-"))
+                if key is not None and not (options.key_file or config.key_file):  # the run's fresh key, 0600
+                    config = dataclasses.replace(config, key_file=str(write_key_file(self._tmpdir / "secoc.key", key)))
+                elif options.key_file:
+                    config = dataclasses.replace(config, key_file=options.key_file)
                 self.process = EcuProcess(options.interface, channel, config, not options.realtime, self._tmpdir)
         except BaseException:
             self.close()
@@ -94,7 +102,10 @@ class BusEndpoint:
                 raise EcuLinkError(f"expected an ECU on {self.options.interface} {self.channel} within "
                                    f"{self.options.join_timeout_s} s, none joined")
             time.sleep(_POLL_S)
-        while self.recv(0.0) is not None:
+        # drop what came before, up to a quiet moment: a real-time ECU sends each SafetyOverride
+        # and its authenticator back to back, and a drain ending between the two would hand the
+        # gateway an authenticator without its frame (a false authentication failure)
+        while self.recv(_DRAIN_QUIET_S if first_frame_joins and self.keyed else 0.0) is not None:
             pass
         self.join_wait_s = time.monotonic() - started
 

@@ -17,6 +17,14 @@ each cycle's frames, then ``SimClock``, then a bounded wait for the reply) or
 in real time (:mod:`cosim.link.real_time`: paced to the wall clock, taking
 whatever the ECU sent). Both share :class:`cosim.link.bus_endpoint.BusEndpoint`
 (the bus, the spawned process, joining, bus errors and ``ecu_lost``).
+
+Authentication (issue 15, :mod:`can_dbc.secoc`): :func:`run_key` picks the
+run's SecOC key: ``key_file`` (``--key-file``) or the ECU config's
+``key_file``; otherwise, in process and for a spawned ECU, a fresh random key
+per run (written, mode 0600, into the run's private 0700 directory for the
+child); ``attach`` without a key file, or ``authenticate=False``, runs with
+E2E protection only. The master then sends each input and ``SimClock`` with
+its authenticator frame, and waits for ``SafetyOverride``'s authenticator too.
 """
 
 from __future__ import annotations
@@ -26,6 +34,7 @@ from typing import Protocol
 
 import can
 
+from can_dbc import generate_key, load_key_file
 from ecu import EcuConfig
 
 from ..errors import CosimError
@@ -85,6 +94,10 @@ class EcuOptions:
     join_timeout_s: float = 10.0
     reply_timeout_s: float = 1.0
     stop_timeout_s: float = 5.0
+    #: SecOC key file shared with the ECU; None: the ECU config's, else a fresh key (see run_key)
+    key_file: str | None = None
+    #: False: E2E protection only (no SecOC), unless a key file is named
+    authenticate: bool = True
 
     def __post_init__(self) -> None:
         if self.interface is None:
@@ -101,22 +114,33 @@ class EcuOptions:
                 raise EcuLinkError(f"{name}: expected > 0 s, got {getattr(self, name)!r}")
 
 
+def run_key(options: EcuOptions, config: EcuConfig) -> bytes | None:
+    """The run's SecOC key: a named key file, else a fresh one in process or for a spawned ECU, else None."""
+    key_file = options.key_file or config.key_file
+    if key_file:
+        return load_key_file(key_file)
+    if options.authenticate and options.mode in ("inprocess", "process"):
+        return generate_key()
+    return None
+
+
 def _default_interface(mode: str, realtime: bool) -> str:
     if mode == "inprocess":
         return "crd_inproc"
     return "crd_pair" if mode == "process" and not realtime else "crd_unix"
 
 
-def open_link(options: EcuOptions, config: EcuConfig, cycle_s: float) -> EcuLink:
-    """The link for ``options``: in process, lock-step over a bus, or real time over a bus."""
+def open_link(options: EcuOptions, config: EcuConfig, cycle_s: float, key: bytes | None = None) -> EcuLink:
+    """The link for ``options``: in process, lock-step over a bus, or real time over a bus
+    (``key``: the run's SecOC key, see :func:`run_key`)."""
     if options.mode == "inprocess":
         from .in_process import InProcessLink
 
-        return InProcessLink(config, options.interface)
+        return InProcessLink(config, options.interface, key)
     if options.realtime:
         from .real_time import RealTimeLink
 
-        return RealTimeLink(options, config, cycle_s)
+        return RealTimeLink(options, config, cycle_s, key)
     from .lock_step import LockStepLink
 
-    return LockStepLink(options, config)
+    return LockStepLink(options, config, key)

@@ -26,7 +26,7 @@ class InProcessLink:
 
     realtime = False
 
-    def __init__(self, config: EcuConfig, interface: str = "crd_inproc") -> None:
+    def __init__(self, config: EcuConfig, interface: str = "crd_inproc", key: bytes | None = None) -> None:
         channel = f"crd-{os.getpid()}-{next(_channels)}"
         self._bus = can.Bus(interface=interface, channel=channel, receive_own_messages=False)
         try:
@@ -34,7 +34,7 @@ class InProcessLink:
         except BaseException:
             self._bus.shutdown()
             raise
-        self.node = EcuNode(self._ecu_bus, config)
+        self.node = EcuNode(self._ecu_bus, config, key=key)
         self.events: list[RunEvent] = []
         # bound once: the master calls these every cycle (saves an attribute chain per call)
         self._send_frame, self._recv_frame, self._step = self._bus.send, self._bus.recv, self.node.step

@@ -15,7 +15,7 @@ import time
 
 import can
 
-from can_dbc import LAYOUTS, CounterSequence, encode
+from can_dbc import AUTHENTICATORS, LAYOUTS, CounterSequence, SecOcSender, encode
 from ecu import EcuConfig
 
 from .bus_endpoint import BusEndpoint
@@ -23,6 +23,7 @@ from .ecu_link import EcuOptions, LinkReport
 
 OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
 STATUS_ID = LAYOUTS["EcuStatus"].frame_id
+OVERRIDE_AUTH_ID = AUTHENTICATORS["SafetyOverride"]
 
 
 class LockStepLink:
@@ -30,9 +31,10 @@ class LockStepLink:
 
     realtime = False
 
-    def __init__(self, options: EcuOptions, config: EcuConfig) -> None:
+    def __init__(self, options: EcuOptions, config: EcuConfig, key: bytes | None = None) -> None:
         self.options = options
-        self.endpoint = BusEndpoint(options, config)
+        self.endpoint = BusEndpoint(options, config, key)
+        self._signer = SecOcSender(key) if key is not None else None
         self.events = self.endpoint.events
         self._status_period = config.status_period_cycles if options.mode == "process" else None
         self._clock_seq = CounterSequence()
@@ -56,14 +58,18 @@ class LockStepLink:
             endpoint.send(msg, t_s)
         clock = encode("SimClock", {"SimTimeMs": int(round(t_s * 1000.0))}, self._clock_seq.next())
         endpoint.send(clock, t_s)
-        return [clock]
+        if self._signer is None:
+            return [clock]
+        auth = self._signer.authenticator(clock)  # SecOC: the clock's authenticator right after it
+        endpoint.send(auth, t_s)
+        return [clock, auth]
 
     def collect(self, t_s: float, cycle: int) -> list[can.Message]:
         """Wait (bounded) for this cycle's reply, then take anything else already there."""
         endpoint, received = self.endpoint, []
         if endpoint.lost:
             return endpoint.drain(t_s, received)
-        wanted = {OVERRIDE_ID}
+        wanted = {OVERRIDE_ID} if self._signer is None else {OVERRIDE_ID, OVERRIDE_AUTH_ID}
         if self._status_period is not None and cycle % self._status_period == 0:
             wanted.add(STATUS_ID)
         # without a peer count the first reply wait is the join wait

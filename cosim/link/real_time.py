@@ -28,9 +28,9 @@ class RealTimeLink:
 
     realtime = True
 
-    def __init__(self, options: EcuOptions, config: EcuConfig, cycle_s: float) -> None:
+    def __init__(self, options: EcuOptions, config: EcuConfig, cycle_s: float, key: bytes | None = None) -> None:
         self.options = options
-        self.endpoint = BusEndpoint(options, config)
+        self.endpoint = BusEndpoint(options, config, key)
         self.events = self.endpoint.events
         self._cycle_s = cycle_s
         self._lag: list[float] = []

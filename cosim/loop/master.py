@@ -47,12 +47,12 @@ from typing import Callable
 
 import numpy as np
 
-from can_dbc import ECU_CYCLE_S, CounterSequence, encode, signal_layout
+from can_dbc import ECU_CYCLE_S, CounterSequence, SecOcSender, encode, signal_layout
 from can_dbc.units import KMH_PER_MPS
 from ecu import EcuConfig
 
 from ..errors import FmiStepError
-from ..link.ecu_link import EcuOptions, open_link
+from ..link.ecu_link import EcuOptions, open_link, run_key
 from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S, Scenario
 from ..world.driver_models import Pedals, make_driver
@@ -108,7 +108,9 @@ class ClosedLoop:
         self.driver = make_driver(scenario.driver)
         self.radar = RadarModel(scenario.radar, np.random.default_rng(scenario.scenario.seed))
         self.ecu = ecu if ecu is not None else EcuOptions()
-        self.gateway = Gateway(scenario.gateway, conflict_window_cycles=10 if self.ecu.realtime else 1)
+        key = run_key(self.ecu, self._ecu_cfg)  # SecOC: None means E2E protection only
+        self._signer = SecOcSender(key) if key is not None else None
+        self.gateway = Gateway(scenario.gateway, conflict_window_cycles=10 if self.ecu.realtime else 1, key=key)
         self.record = RunRecord(self.strategy, RunMetrics(self.strategy))
         # bound once: next() of each message's E2E counter, called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
@@ -120,7 +122,7 @@ class ClosedLoop:
             log.warning("%s: %s", self.strategy, DERIVED_WHEEL_SPEEDS)
         self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
         try:
-            self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S)
+            self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S, key)
         except BaseException:
             self.plant.close()
             raise
@@ -138,6 +140,9 @@ class ClosedLoop:
         ]
         if cycle % self.n_track == 0:
             out.append(encode("ObjectTrack", self.radar.measure().signals(), self._next_track()))
+        if self._signer is not None:  # each frame followed by its SecOC authenticator
+            sign = self._signer.authenticator
+            out = [f for msg in out for f in (msg, sign(msg))]
         return out
 
     def _cycle_out(self, t_s: float, cycle: int) -> _Outgoing:
@@ -267,6 +272,7 @@ class ClosedLoop:
         m.sim_time_s = t_s
         m.wall_time_s = wall_s
         m.contingency_invocations = self.gateway.contingency_invocations
+        self.gateway.finish(t_s)
         if m.min_gap_m is not None and not np.isfinite(m.min_gap_m):
             m.min_gap_m = None
         self.record.events[:0] = self.gateway.events

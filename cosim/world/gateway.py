@@ -32,6 +32,14 @@ one sender never produces (its counter steps by one; a lost frame or two
 stays within the E2E tolerance), while two interleaved senders always do
 (their counters cannot both step by 1 to 2 modulo 15). When one sender
 remains, the ``override_restored`` event marks the return.
+
+Authentication (issue 15): with a key, a ``SafetyOverride`` is obeyed only
+once its SecOC authenticator verifies (:mod:`can_dbc.secoc`); a forged,
+replayed or unauthenticated one is rejected and counted, and the first such
+frame records an ``auth_failure`` event (a summary with the count follows at
+the end of the run: :meth:`Gateway.finish`). The ECU's own findings arrive in
+``EcuStatus``: ``FaultAuth`` or ``FaultForeignOverride`` there records an
+``ecu_security_fault`` event once. A run with either event exits non-zero.
 """
 
 from __future__ import annotations
@@ -42,7 +50,7 @@ from typing import NamedTuple
 
 import can
 
-from can_dbc import LAYOUTS, MODE_NAMES, CounterError, FrameError, Receiver
+from can_dbc import LAYOUTS, MODE_NAMES, AuthError, CounterError, FrameError, Receiver, SecOcVerifier
 
 from .driver_models import Pedals
 from ..results.run_record import RunEvent
@@ -56,6 +64,9 @@ _OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
 #: a detected second sender keeps the overrides ignored until this long (s) without an excess.
 CONFLICT_HOLD_S = 1.0
 _MODE_NAMES = MODE_NAMES  # the DBC's VAL_ of SafetyOverride.Mode
+_STATUS_ID = LAYOUTS["EcuStatus"].frame_id
+#: event kinds that make a run exit non-zero (cosim.cli)
+SECURITY_EVENTS = ("auth_failure", "ecu_security_fault")
 
 
 class Actuation(NamedTuple):
@@ -68,7 +79,7 @@ class Actuation(NamedTuple):
 class Gateway:
     """Applies ``SafetyOverride`` frames to the driver's pedals."""
 
-    def __init__(self, cfg: GatewayConfig, conflict_window_cycles: int = 1) -> None:
+    def __init__(self, cfg: GatewayConfig, conflict_window_cycles: int = 1, key: bytes | None = None) -> None:
         self._cfg = cfg
         self._window: deque[int] = deque(maxlen=conflict_window_cycles)
         self._conflict_limit = conflict_window_cycles + (0 if conflict_window_cycles == 1 else 3)
@@ -80,7 +91,11 @@ class Gateway:
         self._anomalies: deque[bool] = deque(maxlen=conflict_window_cycles)  # per cycle of the window
         self._conflict_until_t_s = -1.0
         self.conflict = False
-        self._rx = Receiver(names=["SafetyOverride"])
+        self._rx = Receiver(names=["SafetyOverride"], secoc=SecOcVerifier(key) if key is not None else None)
+        self._status_rx = Receiver(names=["EcuStatus"])
+        self._keyed = key is not None
+        self.auth_failures = 0
+        self._ecu_security_reported = False
         self._last_fresh_t_s = 0.0  # the first timeout window starts at t = 0
         self._signals: dict | None = None
         self.fallback = False
@@ -91,15 +106,30 @@ class Gateway:
     def offer(self, msg: can.Message, t_s: float) -> bool:
         """Take one frame from the bus; returns True if it was a fresh valid ``SafetyOverride``."""
         override = msg.arbitration_id == _OVERRIDE_ID and not msg.is_extended_id
-        if override:
+        if override and not self._keyed:  # keyed: only authenticated frames count (below)
             self._in_cycle += 1
+        elif msg.arbitration_id == _STATUS_ID:
+            self._ecu_status(msg, t_s)
+            return False
         try:
             frame = self._rx.check(msg)
+        except AuthError as exc:
+            self._auth_failure(t_s, exc)
+            return False
         except FrameError as exc:
             self._counter_anomaly |= override and isinstance(exc, CounterError)
             return False
-        if not frame.fresh:  # repeated counter: no new data
+        if frame is None:  # held until its authenticator arrives
+            return False
+        if self._keyed:  # a forged frame is rejected above and is no evidence of a second ECU
+            self._in_cycle += 1
+        if not frame.synced:  # resynchronising after a sequence error: neither it nor older data is obeyed
             self._counter_anomaly = True
+            self._signals = None
+            return False
+        if not frame.fresh:  # repeated counter: no new data, and a second sender: drop what it may have sent
+            self._counter_anomaly = True
+            self._signals = None
             return False
         mode = _MODE_NAMES[int(frame.signals["Mode"])]  # the receiver checked it against the DBC's VAL_
         if mode == "CONTINGENCY" and self.mode != "CONTINGENCY":
@@ -108,6 +138,30 @@ class Gateway:
         self._signals = frame.signals  # a dict of its own per frame (can_dbc.receiver._decode)
         self._last_fresh_t_s = t_s
         return True
+
+    def _auth_failure(self, t_s: float, exc: AuthError) -> None:
+        self.auth_failures += 1
+        if self.auth_failures == 1:
+            detail = f"SafetyOverride rejected: {exc}; only authenticated overrides are obeyed"
+            self.events.append(RunEvent(t_s, "auth_failure", detail))
+            log.warning("t=%.3f s: %s", t_s, detail)
+
+    def _ecu_status(self, msg: can.Message, t_s: float) -> None:
+        frame = self._status_rx.receive(msg)
+        if frame is None or self._ecu_security_reported:
+            return
+        found = [name for name in ("FaultAuth", "FaultForeignOverride") if frame.signals[name]]
+        if found:
+            self._ecu_security_reported = True
+            detail = f"the ECU reports {' and '.join(found)} (frames failing authentication or a foreign override)"
+            self.events.append(RunEvent(t_s, "ecu_security_fault", detail))
+            log.warning("t=%.3f s: %s", t_s, detail)
+
+    def finish(self, t_s: float) -> None:
+        """End of run: summarise the authentication failures after the first."""
+        if self.auth_failures > 1:
+            self.events.append(RunEvent(t_s, "auth_failure", f"{self.auth_failures} SafetyOverride frames "
+                                                              "failed authentication in this run (all rejected)"))
 
     def _update_conflict(self, t_s: float) -> None:
         self._window.append(self._in_cycle)

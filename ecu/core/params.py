@@ -114,6 +114,18 @@ class CoreParams:
     e2e_invalid_score: int = 5
     #: consecutive all-valid cycles needed to leave FAULT (also at start-up).
     fault_recovery_cycles: int = 10
+    #: plausibility (ecu.core.plausibility): wheel spread allowed while not braking, absolute
+    #: part and fraction of the fastest wheel (measured in the paper run: 1.53 m/s, 8.5 %).
+    wheel_slip_abs_mps: float = 2.0
+    wheel_slip_fraction: float = 0.3
+    #: a valid object may close this much faster than our speed estimate (measured in the paper
+    #: runs: +3.3 m/s, the ABS reference speed reading low plus the radar latency, while braking).
+    radar_speed_tolerance_mps: float = 6.0
+    #: both pedals above this fraction at once is implausible.
+    pedal_conflict_fraction: float = 0.5
+    #: degraded mode (ecu.core.degraded) plans with at most this fraction of peak_decel, the
+    #: conservative strategy's: with a sensor lost it needs the margin (measured: 0.9 stopped 5 cm short).
+    degraded_decel_fraction: float = 0.8
 
     model_decel_mps2: float = field(init=False, repr=False, compare=False)
     model_decel_fraction: float = field(init=False, repr=False, compare=False)

@@ -35,7 +35,9 @@ from .relevance import in_path
 from .speed_estimate import coast_down_speed_mps, update_speed_mps
 from .stopping_path import closing_speed_mps, is_disjoint, path_distance_m
 from .strategies import NO_TIGHTENING, driver_accel_mps2, proximity, tighten
-from .types import CoreInputs, CoreOutputs, CoreState, FaultFlag, Mode
+from .degraded import degraded_brake, release_speed_mps
+from .plausibility import braking_now, input_health, speed_radar_implausible
+from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag, Mode
 from .validity import fault_flags, wheel_speeds_valid
 
 _STANDBY, _TIGHTENING, _CONTINGENCY, _FAULT = Mode.STANDBY, Mode.TIGHTENING, Mode.CONTINGENCY, Mode.FAULT
@@ -91,11 +93,12 @@ def _plan_moving(speed_mps: float, inputs: CoreInputs, params: CoreParams,
                 and relative_disjoint(approach * params.contingency_release_ratio, inputs.object_range_m, params))
 
 
-def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[float, bool, float, int]:
+def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams,
+                wheels_ok: bool = True) -> tuple[float, bool, float, int]:
     """(speed estimate, initialised, wheel mean, cycles since braking) after this cycle."""
     commanded = inputs.brake_pedal > 0.0 or state.prev_decel_request_mps2 > 0.0
     since_brake = 0 if commanded else min(state.cycles_since_brake + 1, 1_000_000)
-    if not wheel_speeds_valid(inputs, params):
+    if not (wheels_ok and wheel_speeds_valid(inputs, params)):
         speed = state.speed_mps
         if state.held_contingency or state.mode == Mode.CONTINGENCY:
             decel = params.model_decel_mps2  # adaptive: the road's estimate (below the dry value on wet roads)
@@ -113,14 +116,26 @@ def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tup
     return speed, True, mean, since_brake
 
 
-def _next_decel(state: CoreState, inputs: CoreInputs, speed_mps: float,
-                params: CoreParams) -> tuple[decel_estimate.DecelEstimate, float | None]:
+def _checked_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[int, tuple, bool, bool]:
+    """(fault flags, _next_speed's result, wheels usable, driver input usable) after every check."""
+    health = input_health(inputs, braking_now(state, inputs, params), params)
+    flags = fault_flags(inputs, params) | health.flags
+    speed_parts = _next_speed(state, inputs, params, health.wheels_ok)
+    wheels_ok = health.wheels_ok and wheel_speeds_valid(inputs, params)
+    if wheels_ok and speed_radar_implausible(speed_parts[0], inputs, params):
+        flags |= 1 << FaultFlag.SPEED_RADAR
+        wheels_ok = False
+    return flags, speed_parts, wheels_ok, health.driver_ok
+
+
+def _next_decel(state: CoreState, inputs: CoreInputs, speed_mps: float, params: CoreParams,
+                wheels_ok: bool = True) -> tuple[decel_estimate.DecelEstimate, float | None]:
     """``adaptive``: the estimate after this cycle (unchanged without valid wheel speeds: no
     evidence) and the model deceleration ``fraction * a_hat``; other strategies: (state, None)."""
     if not params.adaptive_enabled:
         return state.decel, None
     estimate = state.decel
-    if state.speed_initialised and wheel_speeds_valid(inputs, params):
+    if state.speed_initialised and wheels_ok and wheel_speeds_valid(inputs, params):
         request = max(state.prev_decel_request_mps2, inputs.brake_pedal * params.peak_decel_mps2)
         estimate = decel_estimate.update(estimate, state.speed_mps, speed_mps, inputs.wheel_speeds_mps,
                                          request, params)
@@ -146,16 +161,20 @@ def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[f
 
 def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[CoreState, CoreOutputs]:
     """Run one cycle; return the next state and the gated outputs."""
-    flags = fault_flags(inputs, params)
-    speed, initialised, wheel_mean, since_brake = _next_speed(state, inputs, params)
-    estimate, model_decel = _next_decel(state, inputs, speed, params)
+    flags, (speed, initialised, wheel_mean, since_brake), wheels_ok, driver_ok = _checked_speed(
+        state, inputs, params)
+    fault = flags & ~REPORT_ONLY_FLAGS
+    estimate, model_decel = _next_decel(state, inputs, speed, params, wheels_ok)
     plan = plan_cycle(speed, inputs, params, model_decel)
     contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
         state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
     planned = planned_mode(plan.released if state.mode is _CONTINGENCY else plan.disjoint, plan.tightening_restricts)
-    decision = next_mode(flags, planned, state.valid_cycles, contingency_active,
-                         speed <= params.standstill_speed_mps, params)
+    decision = next_mode(fault, planned, state.valid_cycles, contingency_active,
+                         release_speed_mps(speed, wheels_ok, inputs, params) <= params.standstill_speed_mps, params)
     throttle, decel = _commands(decision, plan, params)
+    if fault and decel < params.contingency_decel_mps2 and degraded_brake(
+            speed, wheels_ok, driver_ok, inputs, params):
+        decel = params.contingency_decel_mps2  # degraded mode (ecu.core.degraded)
     gated = gate(decision.mode, throttle, decel)
     if gated.interventions:
         flags |= 1 << FaultFlag.INTERNAL

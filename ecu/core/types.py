@@ -35,6 +35,20 @@ class FaultFlag(IntEnum):
     OBJECT_TIMEOUT = 2
     E2E_ERROR = 3
     INTERNAL = 4
+    # issue 15 receiver, plausibility and node checks; EcuStatus.Fault<Name> at bit 50 + value
+    RATE = 5
+    WHEEL_SLIP = 6
+    SPEED_RADAR = 7
+    PEDALS = 8
+    CLOCK = 9
+    AUTH = 10
+    FOREIGN_OVERRIDE = 11
+    SEQUENCE = 12
+
+
+#: flags reported in EcuStatus that do not by themselves make the ECU leave its mode: a rejected
+#: forged frame leaves the authenticated stream trustworthy (see ecu/README.md, degraded mode)
+REPORT_ONLY_FLAGS = 1 << FaultFlag.AUTH
 
 
 class CoreInputs(NamedTuple):
@@ -54,6 +68,12 @@ class CoreInputs(NamedTuple):
     driver_e2e_score: int = 0
     object_e2e_score: int = 0
     object_lateral_m: float = 0.0  # the object's centre offset from our path, left positive
+    #: receiver faults of each input as FaultFlag bits (RATE, SEQUENCE), from can_dbc.Receiver.rx_flags
+    wheel_rx_flags: int = 0
+    driver_rx_flags: int = 0
+    object_rx_flags: int = 0
+    #: the node's own findings as FaultFlag bits (CLOCK, AUTH, FOREIGN_OVERRIDE)
+    node_flags: int = 0
 
 
 class CoreState(NamedTuple):

@@ -10,10 +10,11 @@ import can
 import cantools
 import pytest
 
-from can_dbc import DBC_PATH
+from can_dbc import AUTHENTICATORS, DBC_PATH, generate_key, write_key_file
 from cosim.cli.main import main as crd
 from cosim.cli.paper import PAPER_SCENARIO
 from cosim.loop.experiment import run_strategies
+from cosim.link.ecu_link import EcuOptions
 from cosim.loop.master import run_scenario
 from cosim.scenarios.config import DEFAULT_START_TIME
 from cosim.scenarios.loader import load_scenario, scenario_from_dict
@@ -29,14 +30,21 @@ FIXTURE_PLANT = {
 }
 
 
-def test_two_runs_are_identical(plant_fmu3):
+def test_two_runs_are_identical(plant_fmu3, tmp_path):
+    """Bit for bit under one SecOC key; with the default fresh key per run only the MACs differ."""
     sc = scenario_from_dict(SHORT)
-    a, b = (run_scenario(sc, plant_fmu3, "none") for _ in range(2))
+    key_file = str(write_key_file(tmp_path / "run.key", generate_key()))
+    a, b = (run_scenario(sc, plant_fmu3, "none", ecu=EcuOptions(key_file=key_file)) for _ in range(2))
     da, db = a.metrics.as_dict(), b.metrics.as_dict()
     da.pop("wall_time_s"), db.pop("wall_time_s")
     assert da == db
     assert a.rows == b.rows and a.frames == b.frames
     assert a.metrics.contingency_invocations >= 1  # the object at 40 m does engage the ECU
+    fresh = run_scenario(sc, plant_fmu3, "none")
+    auth_ids = set(AUTHENTICATORS.values())
+    assert fresh.rows == a.rows
+    assert [f for f in fresh.frames if f.arbitration_id not in auth_ids] == \
+        [f for f in a.frames if f.arbitration_id not in auth_ids]
 
 
 def test_fmu_error_mid_run_keeps_results(point_mass_fmu, tmp_path):

@@ -4,17 +4,20 @@ from __future__ import annotations
 
 import dataclasses
 
+from can_dbc import generate_key, write_key_file
 from cosim.cli.paper import PAPER_SCENARIO
+from cosim.link.ecu_link import EcuOptions
 from cosim.loop.master import PHASES, ClosedLoop, run_scenario
 from cosim.loop.phase_timer import PhaseTimer, Timed
 from cosim.scenarios.loader import load_scenario
 
 
-def test_profiled_run_is_the_same_run_with_a_cost_per_phase(plant_fmu3):
+def test_profiled_run_is_the_same_run_with_a_cost_per_phase(plant_fmu3, tmp_path):
     sc = load_scenario(PAPER_SCENARIO)
     sc = dataclasses.replace(sc, scenario=dataclasses.replace(sc.scenario, duration_s=3.0))
-    plain = run_scenario(sc, plant_fmu3, "tightening")
-    loop = ClosedLoop(sc, plant_fmu3, "tightening", profile=True)
+    one_key = EcuOptions(key_file=str(write_key_file(tmp_path / "run.key", generate_key())))  # same MACs
+    plain = run_scenario(sc, plant_fmu3, "tightening", ecu=one_key)
+    loop = ClosedLoop(sc, plant_fmu3, "tightening", profile=True, ecu=one_key)
     assert isinstance(loop.plant, Timed) and isinstance(loop.link, Timed)
     profiled = loop.run()
     assert profiled.rows == plain.rows and profiled.frames == plain.frames

@@ -2,20 +2,29 @@
 
 import pytest
 
+from can_dbc import generate_key, write_key_file
 from cosim.cli.paper import PAPER_SCENARIO
+from cosim.link.ecu_link import EcuOptions
 from cosim.loop.master import ClosedLoop, _divides
 from cosim.scenarios.loader import load_scenario
 
 
-def _run(fmu, strategy: str, batch: bool):
-    loop = ClosedLoop(load_scenario(PAPER_SCENARIO), fmu, strategy, batch_steps=batch)
+@pytest.fixture(scope="module")
+def key_file(tmp_path_factory):
+    """One SecOC key for both runs, so that their authenticator frames agree too."""
+    return str(write_key_file(tmp_path_factory.mktemp("key") / "run.key", generate_key()))
+
+
+def _run(fmu, strategy: str, batch: bool, key_file: str):
+    loop = ClosedLoop(load_scenario(PAPER_SCENARIO), fmu, strategy, batch_steps=batch,
+                      ecu=EcuOptions(key_file=key_file))
     assert loop.batch_steps is batch
     return loop.run()
 
 
 @pytest.mark.parametrize("strategy", ["none", "tightening"])  # a collision, and a stop short
-def test_batched_steps_give_the_same_run(plant_fmu3, strategy):
-    batched, single = _run(plant_fmu3, strategy, True), _run(plant_fmu3, strategy, False)
+def test_batched_steps_give_the_same_run(plant_fmu3, strategy, key_file):
+    batched, single = _run(plant_fmu3, strategy, True, key_file), _run(plant_fmu3, strategy, False, key_file)
     a, b = batched.metrics.as_dict(), single.metrics.as_dict()
     a.pop("wall_time_s"), b.pop("wall_time_s")
     assert a == b

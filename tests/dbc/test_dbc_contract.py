@@ -2,7 +2,7 @@
 
 import pytest
 
-from can_dbc import DATABASE, DBC_PATH, LAYOUTS
+from can_dbc import AUTHENTICATORS, DATABASE, DBC_PATH, LAYOUTS
 
 EXPECTED = {
     "SafetyOverride": (0x090, "ECU", 10),
@@ -48,9 +48,23 @@ def test_physical_signals_declare_units():
 
 def test_e2e_header_layout():
     for message in DATABASE.messages:
+        if message.frame_id in AUTHENTICATORS.values():
+            continue  # SecOC authenticators carry Freshness and Mac instead (test below)
         crc, counter = message.signals[0], message.signals[1]
         assert (crc.name, crc.start, crc.length) == (f"{message.name}_CRC", 0, 8)
         assert (counter.name, counter.start, counter.length, counter.maximum) == (f"{message.name}_Counter", 8, 4, 14)
+
+
+def test_secoc_authenticators():
+    """Each protected message has an authenticator at ID + 1: 16-bit freshness, 48-bit MAC, same cycle."""
+    assert set(AUTHENTICATORS) == {"SafetyOverride", "WheelSpeeds", "DriverInput", "ObjectTrack", "SimClock"}
+    for name, auth_id in AUTHENTICATORS.items():
+        protected = DATABASE.get_message_by_name(name)
+        auth = DATABASE.get_message_by_frame_id(auth_id)
+        assert auth_id == protected.frame_id + 1 and auth.name == name + "Auth"
+        assert auth.senders == protected.senders and auth.cycle_time == protected.cycle_time
+        assert [(s.name, s.start, s.length) for s in auth.signals] == [
+            (f"{name}Auth_Freshness", 0, 16), (f"{name}Auth_Mac", 16, 48)]
 
 
 def test_canmatrix_loads_the_dbc():
@@ -58,7 +72,7 @@ def test_canmatrix_loads_the_dbc():
     matrices = canmatrix_formats.loadp(str(DBC_PATH))
     matrix = next(iter(matrices.values()))
     frames = {frame.name: frame for frame in matrix.frames}
-    assert set(frames) == set(EXPECTED)
+    assert set(frames) == set(EXPECTED) | {name + "Auth" for name in AUTHENTICATORS}
     assert frames["ObjectTrack"].arbitration_id.id == 0x0C0
     assert frames["ObjectTrack"].size == 8
     assert {s.name for s in frames["WheelSpeeds"].signals} >= {"WheelSpeedFL", "WheelSpeedRR"}

@@ -4,6 +4,7 @@ import can
 import pytest
 
 from can_dbc import (
+    LAYOUTS, RX_SEQUENCE,
     ChecksumError, CounterError, EnumError, LengthError, RangeError, Receiver,
     UnknownFrame, encode, e2e_p01_crc,
 )
@@ -60,7 +61,13 @@ def test_counter_sequence_repeat_and_jump():
     assert rx.receive(_frame(2)) is None
     with pytest.raises(CounterError, match="expected counter 3"):
         rx.check(_frame(6))  # a jump of 4
-    assert rx.check(_frame(7)).fresh  # resynchronised after the jump
+    # after a sequence error the frames are checked but not used until SYNC_FRAMES (3) in a row step by 1
+    assert rx.rx_flags("DriverInput", 0.0) & RX_SEQUENCE
+    frame = rx.check(_frame(7))
+    assert frame.fresh and not frame.synced
+    assert rx.receive(_frame(8)) is None
+    assert rx.receive(_frame(9)).counter == 9  # third in a row: in sync again
+    assert rx.rx_flags("DriverInput", 0.0) == 0
 
 
 def test_counter_wraps_14_to_0():
@@ -89,15 +96,13 @@ def test_undefined_enum_rejected():
     # check is exercised on the EcuStatus layout with Strategy declared as before (0..2 only).
     import dataclasses
 
-    from can_dbc import LAYOUTS
     from can_dbc.receiver import _decode
     layout = LAYOUTS["EcuStatus"]
     table = tuple(row[:9] + (frozenset({0, 1, 2}),) if row[0] == "Strategy" else row for row in layout.unpack_table)
     old_layout = dataclasses.replace(layout, unpack_table=table)
     msg = encode("EcuStatus", {"Strategy": 3, "Proximity": 0, "StoppingDistance": 0,
-                               "SpeedEstimate": 0, "FaultWheelSpeedTimeout": 0,
-                               "FaultDriverInputTimeout": 0, "FaultObjectTimeout": 0, "FaultE2E": 0,
-                               "FaultInternal": 0}, 0)
+                               "SpeedEstimate": 0,
+                               **{s.name: 0 for s in LAYOUTS["EcuStatus"].signals if s.name.startswith("Fault")}}, 0)
     with pytest.raises(EnumError, match="Strategy"):
         _decode(old_layout, int.from_bytes(msg.data, "little"))
     assert Receiver().check(msg).signals["Strategy"] == 3  # declared now: accepted

@@ -7,7 +7,7 @@ from dataclasses import replace
 from hypothesis import given, settings, strategies as st
 
 from ecu.core.relative_stop import is_moving, relative_approach_m, relative_disjoint
-from ecu.core import CoreInputs, CoreParams, CoreState, Mode, step
+from ecu.core import CoreInputs, CoreParams, CoreState, FaultFlag, Mode, step
 from ecu.core.stopping_path import is_disjoint, path_distance_m
 from ecu.core.strategies import driver_accel_mps2
 
@@ -74,7 +74,7 @@ def test_outputs_finite_and_in_dbc_range(p, cycles):
     for _, out in _run(p, cycles):
         assert math.isfinite(out.throttle_limit_pct) and 0.0 <= out.throttle_limit_pct <= 100.0
         assert math.isfinite(out.brake_decel_request_mps2) and 0.0 <= out.brake_decel_request_mps2 <= 15.0
-        assert isinstance(out.mode, Mode) and 0 <= out.fault_flags <= 31
+        assert isinstance(out.mode, Mode) and 0 <= out.fault_flags < 1 << (max(FaultFlag) + 1)
         assert out.override_active == (out.throttle_limit_pct != 100.0 or out.brake_decel_request_mps2 != 0.0)
         if out.mode == Mode.FAULT:
             assert out.throttle_limit_pct == 0.0

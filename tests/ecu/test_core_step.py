@@ -42,7 +42,10 @@ def test_contingency_held_through_wheel_timeout_until_estimated_stop():
     state, _ = run(lambda t: fresh(t, range_m=200.0), 12)
     state, out = step(state, fresh(0.12, range_m=20.0), P)
     assert out.mode == Mode.CONTINGENCY
-    stale = lambda t: fresh(t, range_m=20.0)._replace(wheel_rx_t_s=0.12)  # wheel speeds stop
+    # wheel speeds stop; the radar (valid) sees the car slow down at D, as the real one does
+    # (degraded mode keeps braking while valid radar data still shows the car closing)
+    stale = lambda t: fresh(t, range_m=20.0)._replace(
+        wheel_rx_t_s=0.12, object_range_rate_mps=-max(0.0, 20.0 - 8.1 * (t - 0.12)))
     state, outs = run(stale, 400, state, 13)
     faulted = [o for o in outs if o.mode == Mode.FAULT]
     assert faulted and faulted[0].fault_flags & (1 << FaultFlag.WHEEL_SPEED_TIMEOUT)
