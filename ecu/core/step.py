@@ -159,6 +159,17 @@ def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[f
     return 0.0, 0.0
 
 
+def _decide(state: CoreState, inputs: CoreInputs, plan: Plan, fault: int, speed_ok: tuple[float, bool],
+            params: CoreParams) -> ModeDecision:
+    """The mode machine's decision for this cycle (``speed_ok``: the speed estimate and whether the wheels are valid)."""
+    speed, wheels_ok = speed_ok
+    contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
+        state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
+    planned = planned_mode(plan.released if state.mode is _CONTINGENCY else plan.disjoint, plan.tightening_restricts)
+    return next_mode(fault, planned, state.valid_cycles, contingency_active,
+                     release_speed_mps(speed, wheels_ok, inputs, params) <= params.standstill_speed_mps, params)
+
+
 def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[CoreState, CoreOutputs]:
     """Run one cycle; return the next state and the gated outputs."""
     flags, (speed, initialised, wheel_mean, since_brake), wheels_ok, driver_ok = _checked_speed(
@@ -166,11 +177,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     fault = flags & ~REPORT_ONLY_FLAGS
     estimate, model_decel = _next_decel(state, inputs, speed, params, wheels_ok)
     plan = plan_cycle(speed, inputs, params, model_decel)
-    contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
-        state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
-    planned = planned_mode(plan.released if state.mode is _CONTINGENCY else plan.disjoint, plan.tightening_restricts)
-    decision = next_mode(fault, planned, state.valid_cycles, contingency_active,
-                         release_speed_mps(speed, wheels_ok, inputs, params) <= params.standstill_speed_mps, params)
+    decision = _decide(state, inputs, plan, fault, (speed, wheels_ok), params)
     throttle, decel = _commands(decision, plan, params)
     if fault and decel < params.contingency_decel_mps2 and degraded_brake(
             speed, wheels_ok, driver_ok, inputs, params):
