@@ -53,7 +53,8 @@ from ..world.driver_models import make_driver
 from ..link.ecu_link import EcuOptions, open_link
 from ..errors import FmiStepError
 from ..world.gateway import Actuation, Gateway
-from ..world.plant_fmu import FmuPlant, PlantSample
+from ..world.plant import open_plant
+from ..world.plant_fmu import PlantSample
 from ..world.radar_model import RadarModel
 from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
 from ..scenarios.config import ECU_CYCLE_S, OBJECT_TRACK_PERIOD_S, Scenario
@@ -104,7 +105,7 @@ class ClosedLoop:
         self.record = RunRecord(self.strategy, RunMetrics(self.strategy))
         self._seq = {name: CounterSequence() for name in ("DriverInput", "WheelSpeeds", "ObjectTrack")}
         self._cost = dict.fromkeys(PHASES, 0) if profile else None
-        self.plant = FmuPlant(scenario.plant, fmu_path)
+        self.plant = open_plant(scenario.plant, fmu_path)
         self.record.fmu_path, self.record.fmu_sha256 = str(fmu_path), self.plant.sha256
         self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
         try:

@@ -74,6 +74,9 @@ class PlantConfig:
     ``wheel_radius_m`` converts wheel speeds (rad/s → m/s) and derives them
     from the speed when the FMU has none. ``front_bumper_offset_m`` is the
     front bumper's position relative to the FMU's position output.
+    ``isolation``: where the FMU runs (``cosim.world.plant.open_plant``);
+    ``step_timeout_s``: with ``process``, the longest any FMU call may take
+    before the run stops with an error naming the time.
     """
 
     fmu: str = "builtin"
@@ -81,6 +84,8 @@ class PlantConfig:
     road_friction: float = field(default=1.0, metadata=_r(0.0, 1.5))
     wheel_radius_m: float = field(default=0.31, metadata=_r(0.05, 2.0))
     front_bumper_offset_m: float = field(default=0.0, metadata=_r(-10.0, 10.0))
+    isolation: str = field(default="auto", metadata=_c("auto", "inprocess", "process"))
+    step_timeout_s: float = field(default=5.0, metadata=_r(0.01, 3600.0))
     accel_gain_mps2: float = field(default=3.0, metadata=_r(0.0, 20.0))
     brake_gain_mps2: float = field(default=9.0, metadata=_r(0.0, 20.0))
     parameters: Mapping[str, float | bool] = field(default_factory=lambda: MappingProxyType({}))

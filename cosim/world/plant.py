@@ -1,0 +1,55 @@
+"""The plant seam: what the master needs of a vehicle plant, and where it runs.
+
+:class:`Plant` is the typed interface both plant implementations fill in:
+:class:`~cosim.world.plant_fmu.FmuPlant` (the FMU in this process, through
+fmpy) and :class:`~cosim.world.plant_process.IsolatedPlant` (the same, in a
+child process with a watchdog). :func:`open_plant` picks one from
+``[plant] isolation``:
+
+* ``"inprocess"``: fastest; a native fault in the FMU kills the run;
+* ``"process"``: a crash or hang becomes an error naming the time and the cause;
+* ``"auto"`` (default): ``process`` for a third-party FMU, ``inprocess`` for
+  our own builtin plant, whose source is tested here.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Protocol
+
+from ..scenarios.config import PlantConfig
+from .plant_fmu import FmuPlant, PlantSample
+
+
+class Plant(Protocol):
+    """A vehicle plant the master steps (SI units: m, m/s, m/s²; commands 0..1)."""
+
+    sha256: str
+    fmi_version: int
+    fixed_internal_step_s: float | None
+
+    def set_actuation(self, throttle: float, brake: float) -> None: ...
+
+    def step(self, t_s: float, h_s: float) -> None: ...
+
+    def read(self) -> PlantSample: ...
+
+    def position_speed(self) -> tuple[float, float]: ...
+
+    def close(self) -> None: ...
+
+
+def isolation_of(cfg: PlantConfig) -> str:
+    """``"inprocess"`` or ``"process"``: ``auto`` resolved by whether the FMU is our builtin one."""
+    if cfg.isolation != "auto":
+        return cfg.isolation
+    return "inprocess" if cfg.fmu == "builtin" else "process"
+
+
+def open_plant(cfg: PlantConfig, fmu_path: Path) -> Plant:
+    """The plant for ``cfg``, instantiated and initialised."""
+    if isolation_of(cfg) == "process":
+        from .plant_process import IsolatedPlant
+
+        return IsolatedPlant(cfg, fmu_path, cfg.step_timeout_s)
+    return FmuPlant(cfg, fmu_path)
