@@ -9,7 +9,7 @@ validity score per message. See ``docs/CONTRACTS.md``.
 from .codec import encode, encode_payload
 from .counter import COUNTER_MODULUS, CounterSequence
 from .crc import crc8_j1850, e2e_p01_crc
-from .database import DATABASE, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_time_s, signal_layout
+from .database import DATABASE, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_time_s, e2e_signal_names, signal_layout
 from .errors import (
     ChecksumError,
     CounterError,
@@ -27,5 +27,5 @@ __all__ = [
     "COUNTER_MODULUS", "DATABASE", "DBC_PATH", "LAYOUTS", "LAYOUTS_BY_ID",
     "ChecksumError", "CounterError", "CounterSequence", "DecodeError", "EnumError",
     "Frame", "FrameError", "LengthError", "RangeError", "Receiver", "SignalError",
-    "UnknownFrame", "crc8_j1850", "cycle_time_s", "signal_layout", "e2e_p01_crc", "encode", "encode_payload",
+    "UnknownFrame", "crc8_j1850", "cycle_time_s", "e2e_signal_names", "signal_layout", "e2e_p01_crc", "encode", "encode_payload",
 ]

@@ -1,9 +1,11 @@
 """``crd dbc``: show the CAN contract, or decode a CAN log against it.
 
 ``crd dbc show`` prints every message with its ID, sender, cycle time and
-signals (unit, range, resolution). ``crd dbc decode LOG`` reads a BLF/ASC/CSV
-log with python-can's readers and prints each frame after the contract's
-checks, with rejected frames named by their error.
+signals (unit, range, resolution, enumeration labels). ``crd dbc decode LOG``
+reads a BLF/ASC/CSV log with python-can's readers and prints each frame after
+the contract's checks, with rejected frames named by their error.
+``crd dbc export --format arxml|kcd|sym OUT`` writes the contract for other
+tools (:mod:`can_dbc.export`).
 """
 
 from __future__ import annotations
@@ -12,8 +14,9 @@ import argparse
 
 import can
 
-from .database import LAYOUTS
+from .database import DATABASE, LAYOUTS
 from .errors import FrameError
+from .export import FORMATS, export
 from .receiver import Receiver
 
 
@@ -27,6 +30,11 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     decode.add_argument("log", help="log file; the format follows its suffix")
     decode.add_argument("--limit", type=int, default=0, help="stop after this many frames (0: all)")
     decode.set_defaults(func=_do_decode)
+    exp = sub.add_parser("export", help="write the contract as AUTOSAR 4 ARXML, KCD or SYM")
+    exp.add_argument("out", help="output file")
+    exp.add_argument("--format", choices=FORMATS, default=None,
+                     help="output format (default: from the suffix of OUT)")
+    exp.set_defaults(func=_do_export)
 
 
 def _do_show(args: argparse.Namespace) -> int:
@@ -35,8 +43,23 @@ def _do_show(args: argparse.Namespace) -> int:
         print(f"0x{layout.frame_id:03X} {layout.name:<15} from {','.join(layout.senders):<7} cycle {cycle}")
         for sig in layout.signals:
             rng = f"{sig.minimum:g}..{sig.maximum:g}"
-            enum = f" enum{sorted(sig.choices)}" if sig.choices else ""
+            enum = f" {_labels(layout.name, sig.name)}" if sig.choices else ""
             print(f"    {sig.name:<20} {sig.unit or '-':<6} {rng:<16} res {sig.scale:g}{enum}")
+    return 0
+
+
+def _labels(message: str, signal: str) -> str:
+    """``0=STANDBY 1=TIGHTENING ...``: the signal's enumeration as the DBC declares it."""
+    choices = DATABASE.get_message_by_name(message).get_signal_by_name(signal).choices or {}
+    return " ".join(f"{int(k)}={v}" for k, v in sorted(choices.items()))
+
+
+def _do_export(args: argparse.Namespace) -> int:
+    fmt = args.format or args.out.rsplit(".", 1)[-1].lower()
+    if fmt not in FORMATS:
+        raise ValueError(f"crd dbc export: cannot tell the format of {args.out!r} from its suffix; "
+                         f"give --format, one of {', '.join(FORMATS)}")
+    print(export(fmt, args.out))
     return 0
 
 

@@ -23,9 +23,15 @@ from .crc import data_id_seed
 DBC_PATH: Path = Path(__file__).with_name("active_safety.dbc")
 DATABASE = cantools.database.load_file(str(DBC_PATH), strict=True)
 
-#: Signals of the E2E Profile 1 header, handled by the codec itself.
-E2E_SIGNALS = ("CHECKSUM", "COUNTER")
 FRAME_LENGTH = 8
+
+
+def e2e_signal_names(message_name: str) -> tuple[str, str]:
+    """Names of the E2E Profile 1 header signals (CRC byte 0, counter low nibble of byte 1),
+    handled by the codec itself. They carry the message name (``SafetyOverride_CRC``,
+    ``SafetyOverride_Counter``) so that AUTOSAR exports, which key signals by name alone,
+    keep the six messages' headers apart."""
+    return f"{message_name}_CRC", f"{message_name}_Counter"
 
 
 @dataclass(frozen=True, slots=True)
@@ -101,8 +107,12 @@ def _message_layout(message) -> MessageLayout:
     if message.is_extended_frame or message.length != FRAME_LENGTH:
         raise ValueError(f"message {message.name}: expected 11-bit ID and DLC 8")
     names = [s.name for s in message.signals]
-    if names[:2] != list(E2E_SIGNALS):
-        raise ValueError(f"message {message.name}: expected CHECKSUM, COUNTER first, got {names[:2]}")
+    e2e = e2e_signal_names(message.name)
+    if names[:2] != list(e2e):
+        raise ValueError(f"message {message.name}: expected {e2e[0]}, {e2e[1]} first, got {names[:2]}")
+    crc, counter = message.signals[:2]
+    if (crc.start, crc.length, counter.start, counter.length) != (0, 8, 8, 4):
+        raise ValueError(f"message {message.name}: expected {e2e[0]} at bit 0 (8 bits), {e2e[1]} at bit 8 (4 bits)")
     signals = tuple(_signal_layout(s) for s in message.signals[2:])
     masks = [(1 << sig.length) - 1 for sig in signals]
     return MessageLayout(

@@ -6,26 +6,46 @@ from them. Conversions (DBC -> SI): wheel speeds km/h / 3.6 -> m/s, pedals
 % / 100 -> fraction, object range m, range rate m/s (negative closing),
 ``ObjectValid`` 0/1 -> bool. The outgoing side encodes ``SafetyOverride`` and
 ``EcuStatus`` through ``can_dbc.encode`` (counter and CRC filled in); status
-values are clamped into their DBC ranges because they are informational.
+values are clamped into their DBC ranges because they are informational. Each
+:class:`~ecu.core.types.FaultFlag` bit travels as its own 1-bit ``EcuStatus``
+signal (``FAULT_SIGNALS``; bit k at DBC bit 50 + k).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Callable
+from typing import Callable, Mapping
 
 import can
 
 from can_dbc import Frame, Receiver, encode
 
 from .core import CoreInputs, CoreOutputs
-from .core.types import NEVER_S
+from .core.types import NEVER_S, FaultFlag
 
 KMH_PER_MPS = 3.6
 PERCENT = 100.0
 #: messages the ECU consumes (the SimClock paces sim-time mode only).
 INPUT_MESSAGES = ("WheelSpeeds", "DriverInput", "ObjectTrack")
 SIM_CLOCK = "SimClock"
+#: each fault bit's 1-bit signal in ``EcuStatus`` (the DBC places bit k at bit 50 + k)
+FAULT_SIGNALS: dict[FaultFlag, str] = {
+    FaultFlag.WHEEL_SPEED_TIMEOUT: "FaultWheelSpeedTimeout",
+    FaultFlag.DRIVER_INPUT_TIMEOUT: "FaultDriverInputTimeout",
+    FaultFlag.OBJECT_TIMEOUT: "FaultObjectTimeout",
+    FaultFlag.E2E_ERROR: "FaultE2E",
+    FaultFlag.INTERNAL: "FaultInternal",
+}
+
+
+def fault_signals(fault_flags: int) -> dict[str, int]:
+    """The ``EcuStatus`` fault signals (0/1 each) of the ``fault_flags`` bit field."""
+    return {name: (fault_flags >> bit) & 1 for bit, name in FAULT_SIGNALS.items()}
+
+
+def fault_flags_of(signals: Mapping[str, float]) -> int:
+    """The fault bit field of a decoded ``EcuStatus`` (inverse of :func:`fault_signals`)."""
+    return sum(int(signals[name]) << bit for bit, name in FAULT_SIGNALS.items())
 
 
 class InputLatch:
@@ -110,5 +130,5 @@ def status_message(outputs: CoreOutputs, strategy_code: int, counter: int) -> ca
         "Proximity": _clamped(outputs.proximity, 0.0, 1.0),
         "StoppingDistance": _clamped(outputs.stopping_distance_m, 0.0, 500.0),
         "SpeedEstimate": _clamped(outputs.speed_estimate_mps, 0.0, 100.0),
-        "FaultFlags": outputs.fault_flags & 0x1F,
+        **fault_signals(outputs.fault_flags),
     }, counter=counter)

@@ -1,5 +1,10 @@
 """Build the vehicle plant FMU (FMI 2.0 or 3.0 co-simulation) from source with cmake and gcc.
 
+The build first stages the FMU's ``sources/`` folder (the C files of that FMI version,
+the headers, the generated ``plant_token.h`` and, for FMI 3, ``buildDescription.xml``),
+compiles the shipped binary from exactly that folder, and zips both: an importer can
+rebuild the binary from the FMU alone (e.g. ``fmpy.build.build_platform_binary``).
+
 ``build_fmu(fmi_version, out)`` always builds. ``ensure_fmu(fmi_version)`` returns a
 cached FMU, building it on first use; the cache entry is keyed by the SHA-256 of
 every source file, the FMI headers and the FMI version, so any edit rebuilds.
@@ -24,7 +29,8 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from fmu_plant.description import MODEL_IDENTIFIER, render
+from fmu_plant.description import (MODEL_IDENTIFIER, SOURCE_FILES, SOURCE_HEADERS, render,
+                                   render_build_description, render_token_header)
 
 log = logging.getLogger(__name__)
 
@@ -110,11 +116,27 @@ def _run(cmd: list[str], what: str) -> None:
         raise CompileError(f"{what} failed with exit code {proc.returncode} (expected 0):\n{tail}")
 
 
-def _compile(fmi_version: int, token: str, build_dir: Path) -> Path:
+def source_members(fmi_version: int, token: str) -> dict[str, bytes]:
+    """The FMU's ``sources/`` folder: file name -> content."""
+    src = PACKAGE_DIR / "src"
+    members = {name: (src / name).read_bytes() for name in (*SOURCE_FILES[fmi_version], *SOURCE_HEADERS[fmi_version])}
+    members["plant_token.h"] = render_token_header(token).encode()
+    if fmi_version == 3:
+        members["buildDescription.xml"] = render_build_description().encode()
+    return members
+
+
+def _stage_sources(members: dict[str, bytes], sources_dir: Path) -> None:
+    sources_dir.mkdir(parents=True)
+    for name, data in members.items():
+        (sources_dir / name).write_bytes(data)
+
+
+def _compile(sources_dir: Path, build_dir: Path) -> Path:
     cmake, gcc = _tool("cmake"), _tool("gcc")
     _run([cmake, "-S", str(PACKAGE_DIR), "-B", str(build_dir), f"-DCMAKE_C_COMPILER={gcc}",
-          "-DCMAKE_BUILD_TYPE=Release", f"-DFMI_VERSION={fmi_version}",
-          f"-DFMI_HEADERS_DIR={fmi_headers_dir()}", f"-DPLANT_TOKEN={token}"], "cmake configure")
+          "-DCMAKE_BUILD_TYPE=Release", f"-DPLANT_SOURCES_DIR={sources_dir}",
+          f"-DFMI_HEADERS_DIR={fmi_headers_dir()}"], "cmake configure")
     _run([cmake, "--build", str(build_dir)], "cmake build")
     library = build_dir / f"{MODEL_IDENTIFIER}.so"
     if not library.is_file():
@@ -122,10 +144,11 @@ def _compile(fmi_version: int, token: str, build_dir: Path) -> Path:
     return library
 
 
-def _zip_fmu(fmi_version: int, token: str, library: Path, out: Path) -> None:
+def _zip_fmu(fmi_version: int, token: str, library: Path, sources: dict[str, bytes], out: Path) -> None:
     members = {
         "modelDescription.xml": render(fmi_version, token).encode(),
         f"binaries/{_platform_dir(fmi_version)}/{MODEL_IDENTIFIER}.so": library.read_bytes(),
+        **{f"sources/{name}": data for name, data in sorted(sources.items())},
     }
     with zipfile.ZipFile(out, "w", compression=zipfile.ZIP_DEFLATED) as zf:
         for name, data in members.items():
@@ -142,9 +165,11 @@ def build_fmu(fmi_version: int, out: Path | str) -> Path:
     out.parent.mkdir(parents=True, exist_ok=True)
     token = instantiation_token(fmi_version)
     with tempfile.TemporaryDirectory(prefix=".fmu-build-", dir=out.parent) as tmp:
-        library = _compile(fmi_version, token, Path(tmp) / "cmake")
+        sources = source_members(fmi_version, token)
+        _stage_sources(sources, Path(tmp) / "sources")
+        library = _compile(Path(tmp) / "sources", Path(tmp) / "cmake")
         staged = Path(tmp) / FMU_NAME
-        _zip_fmu(fmi_version, token, library, staged)
+        _zip_fmu(fmi_version, token, library, sources, staged)
         os.replace(staged, out)
     log.info("built FMI %d plant FMU %s", fmi_version, out)
     return out

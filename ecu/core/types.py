@@ -30,7 +30,7 @@ class Mode(IntEnum):
 
 
 class FaultFlag(IntEnum):
-    """Bit numbers of ``EcuStatus.FaultFlags``."""
+    """Fault bit numbers; bit k is the ``EcuStatus`` signal at DBC bit 50 + k (``ecu.bus_port.FAULT_SIGNALS``)."""
 
     WHEEL_SPEED_TIMEOUT = 0
     DRIVER_INPUT_TIMEOUT = 1

@@ -9,7 +9,8 @@ ObjectTrack 250 ms. ``ObjectValid = 0`` is valid data (no object) and is not
 a fault. Non-finite or physically impossible values that reach the core are an
 internal fault (the codec should have stopped them).
 
-The result is the ``EcuStatus.FaultFlags`` bit field (see :class:`FaultFlag`).
+The result is the fault bit field (see :class:`FaultFlag`); ``EcuStatus`` carries each
+bit as its own signal (``ecu.bus_port.FAULT_SIGNALS``).
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ def _implausible(inputs: CoreInputs) -> bool:
 
 
 def fault_flags(inputs: CoreInputs, params: CoreParams) -> int:
-    """The ``FaultFlags`` bit field for this cycle (0 when every input is valid)."""
+    """The fault bit field for this cycle (0 when every input is valid)."""
     t = inputs.t_s
     flags = 0
     if _timed_out(t, inputs.wheel_rx_t_s, params.wheel_speeds_timeout_s):

@@ -7,8 +7,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* PLANT_TOKEN, the GUID / instantiation token: written by fmu_plant/build.py next to the
+ * sources it compiles and ships in the FMU's sources/ folder. */
+#include "plant_token.h"
 #ifndef PLANT_TOKEN
-#error "PLANT_TOKEN (the instantiation token / GUID) must be defined by the build"
+#error "plant_token.h must define PLANT_TOKEN (the instantiation token / GUID)"
 #endif
 
 #define ANY_STATE (FW_INSTANTIATED | FW_INITIALIZATION | FW_STEP | FW_TERMINATED | FW_FAILED)
@@ -74,6 +77,7 @@ static void reset_model(FwInstance *inst) {
     memset(inst->clamped, 0, sizeof inst->clamped);
     inst->start_time_s = 0.0;
     inst->steps = 0;
+    inst->frac_s = 0.0;
     inst->state = FW_INSTANTIATED;
 }
 
@@ -163,13 +167,14 @@ FwStatus fw_exit_initialization(FwInstance *inst) {
     }
     plant_initialize(&inst->model);
     inst->steps = 0;
+    inst->frac_s = 0.0;
     inst->model.var.time = inst->start_time_s;
     inst->state = FW_STEP;
     return FW_OK;
 }
 
-static double time_at(const FwInstance *inst, long long steps) {
-    return inst->start_time_s + (double)steps * PLANT_STEP_S;
+static double time_now(const FwInstance *inst) {
+    return inst->start_time_s + (double)inst->steps * PLANT_STEP_S + inst->frac_s;
 }
 
 static bool outputs_finite(const PlantVariables *v) {
@@ -177,31 +182,62 @@ static bool outputs_finite(const PlantVariables *v) {
            isfinite(v->wheel_speed_rl) && isfinite(v->brake_pressure) && isfinite(v->drive_force);
 }
 
+/* Where the step ends on the grid: whole steps *end plus *end_frac_s in [0, h). A point
+ * within GRID_TOLERANCE steps of a grid point is that grid point, so whole multiples of
+ * the internal step take exactly the whole steps they always took. */
+#define GRID_TOLERANCE 1e-6
+static void grid_position(const FwInstance *inst, double t_end_s, long long *end,
+                          double *end_frac_s) {
+    double rel_s = t_end_s - inst->start_time_s;
+    double cells = rel_s / PLANT_STEP_S;
+    *end = llround(cells);
+    *end_frac_s = 0.0;
+    if (fabs(cells - (double)*end) > GRID_TOLERANCE) {
+        *end = (long long)floor(cells);
+        *end_frac_s = rel_s - (double)*end * PLANT_STEP_S;
+    }
+}
+
+/* Integrate to (end, end_frac_s): complete the current grid cell, take whole steps, then a
+ * shorter last sub-step to a communication point that lies between two grid points. */
+static void advance(FwInstance *inst, long long end, double end_frac_s) {
+    while (inst->steps < end || inst->frac_s < end_frac_s) {
+        bool enters_cell = inst->frac_s == 0.0;
+        double cell_end_s = inst->steps < end ? PLANT_STEP_S : end_frac_s;
+        plant_step(&inst->model, cell_end_s - inst->frac_s, enters_cell);
+        if (inst->steps < end) {
+            ++inst->steps;
+            inst->frac_s = 0.0;
+        } else {
+            inst->frac_s = end_frac_s;
+        }
+    }
+}
+
 FwStatus fw_do_step(FwInstance *inst, double t_s, double h_s, double *last_time_s) {
     if (!fw_allowed(inst, FW_FN_DO_STEP, "DoStep")) {
         return FW_ERROR;
     }
-    double now_s = time_at(inst, inst->steps);
+    double now_s = time_now(inst);
     *last_time_s = now_s;
-    if (!(h_s > 0.0) || !isfinite(h_s) || !(fabs(t_s - now_s) <= 1e-6 * PLANT_STEP_S)) {
+    if (!(h_s > 0.0) || !isfinite(h_s) || !(fabs(t_s - now_s) <= GRID_TOLERANCE * PLANT_STEP_S)) {
         fw_log(inst, FW_ERROR, "logStatusError",
                "DoStep(currentCommunicationPoint=%.17g, step=%.17g): expected the point %.17g "
                "and a positive step", t_s, h_s, now_s);
         return FW_ERROR;
     }
-    double steps_real = (t_s + h_s - inst->start_time_s) / PLANT_STEP_S;
-    long long end = llround(steps_real);
-    if (fabs(steps_real - (double)end) > 1e-6 || end <= inst->steps) {
+    long long end;
+    double end_frac_s;
+    grid_position(inst, t_s + h_s, &end, &end_frac_s);
+    if (end < inst->steps || (end == inst->steps && !(end_frac_s > inst->frac_s))) {
         fw_log(inst, FW_ERROR, "logStatusError",
-               "DoStep step %.17g s is not a positive multiple of the %g s internal step",
-               h_s, PLANT_STEP_S);
+               "DoStep step %.17g s is below the %g s time resolution", h_s,
+               GRID_TOLERANCE * PLANT_STEP_S);
         return FW_ERROR;
     }
-    for (; inst->steps < end; ++inst->steps) {
-        plant_step(&inst->model);
-    }
+    advance(inst, end, end_frac_s);
     plant_publish_outputs(&inst->model);
-    inst->model.var.time = time_at(inst, inst->steps);
+    inst->model.var.time = time_now(inst);
     *last_time_s = inst->model.var.time;
     if (!outputs_finite(&inst->model.var)) {
         inst->state = FW_FAILED;

@@ -2,13 +2,20 @@
  *
  * It owns the instance, enforces the legal call order with one allowed-state
  * mask per function (FW_ALLOWED in framework.c), checks and clamps values,
- * sub-steps the model on an integer step counter and reports through the
+ * sub-steps the model on a 1 ms grid counted by an integer (with a shorter last
+ * sub-step for a communication point between grid points) and reports through the
  * importer's logger. Status codes have the same values in FMI 2 and FMI 3. */
 #ifndef PLANT_FRAMEWORK_H
 #define PLANT_FRAMEWORK_H
 
 #include <stdbool.h>
 #include "model.h"
+
+/* Only the FMI functions are exported; the plant's own symbols stay inside the library,
+ * whoever builds it (our cmake build also sets hidden visibility; fmpy's does not). */
+#if defined(__GNUC__)
+#pragma GCC visibility push(hidden)
+#endif
 
 typedef enum { FW_OK = 0, FW_WARNING = 1, FW_DISCARD = 2, FW_ERROR = 3, FW_FATAL = 4 } FwStatus;
 
@@ -49,7 +56,8 @@ typedef struct FwInstance {
     FwLogFn log_fn;
     bool logging_on;
     double start_time_s;
-    long long steps;           /* internal steps since start; time = start + steps * h */
+    long long steps;           /* whole internal steps since start */
+    double frac_s;             /* into the current grid cell, [0, h); time = start + steps * h + frac */
     bool clamped[PLANT_VR_CAP];
     PlantModel model;
 } FwInstance;
@@ -87,5 +95,9 @@ FwStatus fw_set_bool(FwInstance *inst, unsigned vr, bool value);
 static inline FwStatus fw_worst(FwStatus a, FwStatus b) {
     return a > b ? a : b;
 }
+
+#if defined(__GNUC__)
+#pragma GCC visibility pop
+#endif
 
 #endif

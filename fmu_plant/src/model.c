@@ -1,6 +1,7 @@
 /* Equations of the longitudinal vehicle plant (see fmu_plant/README.md).
  *
- * One fixed step h = PLANT_STEP_S:
+ * One step of h <= PLANT_STEP_S (normally exactly PLANT_STEP_S; shorter only where a
+ * communication point falls between two points of the 1 ms grid):
  *   powertrain  F_lag += a_t (throttle * F_max - F_lag),  F_d = min(F_lag, P_max / max(w_d r, 1 m/s))
  *   brakes      p += a_b (brake(t - T_d) - p),  per-axle ABS modulation of p
  *   tyres       kappa = (w r - v) / max(v, V_FLOOR),  Fx = mu D Fz sin(C atan(B k - E (B k - atan(B k))))
@@ -11,6 +12,8 @@
 
 #include <math.h>
 #include <stdio.h>
+
+#include "glibc_compat.h"
 
 #define GRAVITY_MPS2 9.80665
 /* Slip denominator floor, m/s: keeps the slip finite at standstill. */
@@ -99,7 +102,7 @@ static void axle_loads(const PlantModel *m, double fz[PLANT_AXLES]) {
  * above abs_slip_release dump the axle pressure, below abs_slip_reapply raise it
  * again at a limited rate, in between hold it. Until the first dump the axle
  * simply follows the pedal pressure. */
-static void abs_modulate(PlantModel *m, int axle, double kappa) {
+static void abs_modulate(PlantModel *m, int axle, double kappa, double h) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
     double *pa = &s->axle_pressure[axle];
@@ -111,20 +114,19 @@ static void abs_modulate(PlantModel *m, int axle, double kappa) {
     double slip = -kappa;
     if (slip > p->abs_slip_release) {
         s->abs_cycling[axle] = 1;
-        *pa = fmax(0.0, *pa - ABS_DUMP_RATE_PER_S * PLANT_STEP_S);
+        *pa = fmax(0.0, *pa - ABS_DUMP_RATE_PER_S * h);
     } else if (!s->abs_cycling[axle]) {
         *pa = s->pressure;
     } else if (slip < p->abs_slip_reapply) {
-        *pa = *pa + ABS_APPLY_RATE_PER_S * PLANT_STEP_S;
+        *pa = *pa + ABS_APPLY_RATE_PER_S * h;
     }
     *pa = fmin(*pa, s->pressure);
 }
 
 /* One axle: tyre force and linearly implicit wheel update. Returns Fx, N. */
-static double axle_step(PlantModel *m, int axle, double fz_n) {
+static double axle_step(PlantModel *m, int axle, double fz_n, double h) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
-    const double h = PLANT_STEP_S;
     double r = p->wheel_radius;
     double w = s->omega_radps[axle];
     double den = fmax(s->v_mps, SLIP_SPEED_FLOOR_MPS);
@@ -132,7 +134,7 @@ static double axle_step(PlantModel *m, int axle, double fz_n) {
     double peak = p->road_friction * p->tyre_D * fz_n;
     double slope;
     double fx = magic_formula(p, kappa, peak, &slope);
-    abs_modulate(m, axle, kappa);
+    abs_modulate(m, axle, kappa, h);
     double t_drive = m->k.drive_share[axle] * s->drive_force_n * r;
     double t_brake = m->k.brake_share[axle] * s->axle_pressure[axle] * p->max_brake_force * r;
     /* Only the stabilising part of the slope enters the implicit term. */
@@ -146,25 +148,42 @@ static double axle_step(PlantModel *m, int axle, double fz_n) {
     return clamp(fx + stiff * (w_new - w), -peak, peak);
 }
 
-static void powertrain_and_brake_step(PlantModel *m) {
+/* First-order lag factors 1 - exp(-h/tau): the ones derived at initialisation for a
+ * full step (so whole steps compute exactly what they always did), else for h. */
+static void lag_factors(const PlantModel *m, double h, double *a_throttle, double *a_brake) {
+    if (h == PLANT_STEP_S) {
+        *a_throttle = m->k.alpha_throttle;
+        *a_brake = m->k.alpha_brake;
+        return;
+    }
+    *a_throttle = 1.0 - exp(-h / m->var.throttle_time_constant);
+    *a_brake = 1.0 - exp(-h / m->var.brake_time_constant);
+}
+
+static void powertrain_and_brake_step(PlantModel *m, double h, bool enters_cell) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
-    s->drive_force_lag_n += m->k.alpha_throttle * (p->throttle * p->max_drive_force - s->drive_force_lag_n);
+    double a_throttle, a_brake;
+    lag_factors(m, h, &a_throttle, &a_brake);
+    s->drive_force_lag_n += a_throttle * (p->throttle * p->max_drive_force - s->drive_force_lag_n);
     double w_driven = m->k.drive_share[PLANT_FRONT] * s->omega_radps[PLANT_FRONT] +
                       m->k.drive_share[PLANT_REAR] * s->omega_radps[PLANT_REAR];
     double v_driven = fmax(w_driven * p->wheel_radius, POWER_SPEED_FLOOR_MPS);
     s->drive_force_n = fmin(s->drive_force_lag_n, p->max_power / v_driven);
-    s->pressure += m->k.alpha_brake * (delayed_brake(s, p->brake) - s->pressure);
+    if (enters_cell) {
+        s->brake_delayed = delayed_brake(s, p->brake);
+    }
+    s->pressure += a_brake * (s->brake_delayed - s->pressure);
 }
 
-void plant_step(PlantModel *m) {
+void plant_step(PlantModel *m, double h, bool enters_cell) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
-    const double h = PLANT_STEP_S;
-    powertrain_and_brake_step(m);
+    powertrain_and_brake_step(m, h, enters_cell);
     double fz[PLANT_AXLES];
     axle_loads(m, fz);
-    double fx = axle_step(m, PLANT_FRONT, fz[PLANT_FRONT]) + axle_step(m, PLANT_REAR, fz[PLANT_REAR]);
+    double fx = axle_step(m, PLANT_FRONT, fz[PLANT_FRONT], h) +
+                axle_step(m, PLANT_REAR, fz[PLANT_REAR], h);
     double v = s->v_mps;
     double f_aero = 0.5 * p->air_density * p->drag_area * v * v;
     double f_grade = p->mass * GRAVITY_MPS2 * sin(p->grade);

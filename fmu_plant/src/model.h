@@ -3,10 +3,18 @@
 #ifndef PLANT_MODEL_H
 #define PLANT_MODEL_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include "variables.h"
 
-/* Fixed internal step, s. doStep sub-steps with this; time is t0 + n * h. */
+/* Only the FMI functions are exported; the plant's own symbols stay inside the library,
+ * whoever builds it (our cmake build also sets hidden visibility; fmpy's does not). */
+#if defined(__GNUC__)
+#pragma GCC visibility push(hidden)
+#endif
+
+/* Fixed internal step, s: the grid t0 + n * h. doStep takes whole steps on this grid and,
+ * where a communication point falls between two grid points, a shorter sub-step to it. */
 #define PLANT_STEP_S 1e-3
 /* Dead-time ring buffer capacity in steps (brake_dead_time max 0.5 s). */
 #define PLANT_DELAY_CAP 512
@@ -23,6 +31,7 @@ typedef struct {
     double pressure;                   /* normalised, after dead time and lag */
     double axle_pressure[PLANT_AXLES]; /* normalised, after ABS modulation */
     int abs_cycling[PLANT_AXLES];      /* ABS has intervened since the pedal was applied */
+    double brake_delayed;              /* brake(t - T_d) for the current 1 ms cell */
     double delay_buf[PLANT_DELAY_CAP];
     int delay_len;
     int delay_head;
@@ -50,10 +59,16 @@ const char *plant_check_parameters(const PlantModel *m, char *buf, size_t len);
 /* Set the state from v0 and x0 and derive the constants; parameters are valid. */
 void plant_initialize(PlantModel *m);
 
-/* Advance one internal step of PLANT_STEP_S with the current inputs. */
-void plant_step(PlantModel *m);
+/* Advance by h (0 < h <= PLANT_STEP_S) with the current inputs. enters_cell is true for
+ * the first (sub-)step of a 1 ms grid cell: only then does the brake dead-time line take
+ * in the brake command and give out the one from T_d ago, so the line runs on the grid. */
+void plant_step(PlantModel *m, double h, bool enters_cell);
 
 /* Copy the state into the output variables. */
 void plant_publish_outputs(PlantModel *m);
+
+#if defined(__GNUC__)
+#pragma GCC visibility pop
+#endif
 
 #endif

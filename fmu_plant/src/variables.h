@@ -6,6 +6,12 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+/* Only the FMI functions are exported; the plant's own symbols stay inside the library,
+ * whoever builds it (our cmake build also sets hidden visibility; fmpy's does not). */
+#if defined(__GNUC__)
+#pragma GCC visibility push(hidden)
+#endif
+
 typedef enum {
     PLANT_KIND_INDEPENDENT,
     PLANT_KIND_INPUT,
@@ -56,5 +62,9 @@ static inline double *plant_var_real(PlantVariables *vars, const PlantVarInfo *i
 static inline bool *plant_var_bool(PlantVariables *vars, const PlantVarInfo *info) {
     return (bool *)((char *)vars + info->offset);
 }
+
+#if defined(__GNUC__)
+#pragma GCC visibility pop
+#endif
 
 #endif

@@ -33,8 +33,9 @@ def test_roundtrip(name, which):
         assert math.isclose(frame.signals[key], value, rel_tol=0, abs_tol=1e-9), key
     # An independent decoder (cantools) agrees on every value and on the E2E header.
     decoded = can_dbc.DATABASE.decode_message(msg.arbitration_id, msg.data, decode_choices=False)
-    assert decoded["COUNTER"] == 7
-    assert decoded["CHECKSUM"] == can_dbc.e2e_p01_crc(msg.arbitration_id, msg.data)
+    crc_name, counter_name = can_dbc.e2e_signal_names(name)
+    assert decoded[counter_name] == 7
+    assert decoded[crc_name] == can_dbc.e2e_p01_crc(msg.arbitration_id, msg.data)
     for key, value in values.items():
         assert math.isclose(decoded[key], value, abs_tol=1e-9), key
 
@@ -79,4 +80,6 @@ def test_counter_outside_0_14_raises(counter):
 def test_undefined_enum_cannot_be_encoded_past_range():
     with pytest.raises(SignalError):
         encode("EcuStatus", {"Strategy": 3, "Proximity": 0, "StoppingDistance": 0,
-                             "SpeedEstimate": 0, "FaultFlags": 0}, 0)
+                             "SpeedEstimate": 0, "FaultWheelSpeedTimeout": 0,
+                             "FaultDriverInputTimeout": 0, "FaultObjectTimeout": 0, "FaultE2E": 0,
+                             "FaultInternal": 0}, 0)

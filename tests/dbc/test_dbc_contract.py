@@ -49,8 +49,8 @@ def test_physical_signals_declare_units():
 def test_e2e_header_layout():
     for message in DATABASE.messages:
         crc, counter = message.signals[0], message.signals[1]
-        assert (crc.name, crc.start, crc.length) == ("CHECKSUM", 0, 8)
-        assert (counter.name, counter.start, counter.length, counter.maximum) == ("COUNTER", 8, 4, 14)
+        assert (crc.name, crc.start, crc.length) == (f"{message.name}_CRC", 0, 8)
+        assert (counter.name, counter.start, counter.length, counter.maximum) == (f"{message.name}_Counter", 8, 4, 14)
 
 
 def test_canmatrix_loads_the_dbc():

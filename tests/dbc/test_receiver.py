@@ -86,7 +86,9 @@ def test_range_violation_rejected():
 
 def test_undefined_enum_rejected():
     msg = encode("EcuStatus", {"Strategy": 0, "Proximity": 0, "StoppingDistance": 0,
-                               "SpeedEstimate": 0, "FaultFlags": 0}, 0)
+                               "SpeedEstimate": 0, "FaultWheelSpeedTimeout": 0,
+                               "FaultDriverInputTimeout": 0, "FaultObjectTimeout": 0, "FaultE2E": 0,
+                               "FaultInternal": 0}, 0)
     # Strategy raw 3 is within the 2-bit field but not declared (and outside the DBC max 2).
     bad = _resealed(msg, lambda d: d.__setitem__(1, d[1] | 0x30))
     with pytest.raises((EnumError, RangeError)):
