@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..link.ecu_link import ECU_MODES, EcuOptions
+from ..link.stall import DEFAULT_STALL_TIMEOUT_S
 from ..results.run_record import RunRecord
 
 
@@ -20,7 +21,11 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
     g.add_argument("--join-timeout", type=float, default=10.0, metavar="S",
                    help="wall-clock bound on waiting for the ECU to join (default 10 s)")
     g.add_argument("--reply-timeout", type=float, default=1.0, metavar="S",
-                   help="wall-clock bound on waiting for a cycle's SafetyOverride (default 1 s)")
+                   help="real time: no frame from the ECU for this long is ecu_lost; lock-step: a longer wait "
+                        "for a cycle's SafetyOverride is recorded as an ecu_stall event (default 1 s)")
+    g.add_argument("--stall-timeout", type=float, default=DEFAULT_STALL_TIMEOUT_S, metavar="S",
+                   help="lock-step: wall-clock bound on waiting for a stalled ECU's SafetyOverride, simulated "
+                        f"time held; past it the run stops with an error (default {DEFAULT_STALL_TIMEOUT_S:g} s)")
     if realtime:
         g.add_argument("--realtime", action="store_true",
                        help="pace the co-simulation to the wall clock; the ECU runs on its own clock")
@@ -29,7 +34,7 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
 def ecu_options(args: argparse.Namespace) -> EcuOptions:
     return EcuOptions(mode=args.ecu, interface=args.bus_interface, channel=args.bus_channel,
                       realtime=getattr(args, "realtime", False), join_timeout_s=args.join_timeout,
-                      reply_timeout_s=args.reply_timeout)
+                      reply_timeout_s=args.reply_timeout, stall_timeout_s=args.stall_timeout)
 
 
 def timing_lines(records: list[RunRecord]) -> list[str]:

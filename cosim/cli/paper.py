@@ -3,7 +3,11 @@
 Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``,
 writes every run's outputs and ``speed_profiles.png``, prints a table and each
 claim of the paper with PASS or FAIL (:mod:`cosim.results.paper_claims`), and exits 3
-if any claim fails.
+if any claim fails, 4 if a fault event occurred (``ecu_lost``, ``second_ecu``,
+``auth_failure``, ``ecu_security_fault``; printed as ``FAULT: ...``) that the
+scenario's ``[checks] expect_events`` does not list, 1 on an error (results so
+far written), 130/143 on SIGINT/SIGTERM (results so far written, ``metrics.json``
+says ``interrupted``).
 """
 
 from __future__ import annotations
@@ -17,6 +21,8 @@ from ..results.paper_claims import REQUIRED, evaluate
 from ..scenarios.loader import load_scenario
 from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
 from .progress import end_progress, progress_printer, results_table
+from .signals import interruptible
+from ..results.events import EXIT_FAULT_EVENT, unexpected_faults
 
 PAPER_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper_cyclist.toml"
 EXIT_CLAIM_FAILED = 3
@@ -27,7 +33,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--scenario", type=Path, default=PAPER_SCENARIO, help="scenario (default: paper_cyclist.toml)")
     p.add_argument("--out", type=Path, default=Path("out/paper"), help="output directory (default out/paper)")
     add_ecu_arguments(p, realtime=False)
-    p.set_defaults(func=_do_paper)
+    p.set_defaults(func=interruptible(_do_paper))
 
 
 def _do_paper(args: argparse.Namespace) -> int:
@@ -47,4 +53,9 @@ def _do_paper(args: argparse.Namespace) -> int:
     for claim in claims:
         print(f"[{'PASS' if claim.passed else 'FAIL'}] claim {claim.number}: {claim.text}\n        {claim.detail}")
     print(f"\nspeed profiles: {args.out / 'speed_profiles.png'}")
-    return 0 if all(c.passed for c in claims) else EXIT_CLAIM_FAILED
+    faults = unexpected_faults(records, scenario.checks.expect_events)
+    for line in faults:
+        print(f"FAULT: {line}")
+    if not all(c.passed for c in claims):
+        return EXIT_CLAIM_FAILED
+    return EXIT_FAULT_EVENT if faults else 0

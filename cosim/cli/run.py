@@ -1,8 +1,20 @@
 """``crd run SCENARIO.toml [--strategy S] [--out DIR] [--can-log NAME]``: one scenario.
 
-Exit status 0 when every ``[checks]`` expectation holds, 3 when one fails
-(each printed), 1 on an error (bad scenario, missing/broken FMU, FMI error:
-results up to the error are still written).
+Exit status:
+
+* 0: every ``[checks]`` expectation holds and no fault event occurred;
+* 1: an error (bad scenario, unwritable ``--out``, missing/broken FMU, FMI
+  error, NaN output, a lock-step ECU stalled past ``--stall-timeout``; for an
+  error during the run the results up to it are written);
+* 3: a ``[checks]`` expectation failed (each printed);
+* 4: a fault event occurred that ``[checks] expect_events`` does not list:
+  ``ecu_lost``, ``second_ecu``, ``auth_failure`` or ``ecu_security_fault``
+  (each printed as ``FAULT: ...``);
+* 130 / 143: interrupted by SIGINT / SIGTERM; the results so far are written
+  and ``metrics.json`` says ``interrupted``.
+
+The output directory is checked before the run; the time series and the CAN
+log are written while the run goes, ``metrics.json`` on every way out.
 """
 
 from __future__ import annotations
@@ -16,6 +28,8 @@ from ..scenarios.config import STRATEGIES
 from ..scenarios.loader import load_scenario
 from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
 from .progress import end_progress, progress_printer, results_table
+from .signals import interruptible
+from ..results.events import EXIT_FAULT_EVENT, unexpected_faults
 
 EXIT_CHECK_FAILED = 3
 
@@ -28,7 +42,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--can-log", default="can.blf",
                    help="CAN log file name; the suffix picks the format (.blf, .asc, .log, .csv...)")
     add_ecu_arguments(p, realtime=True)
-    p.set_defaults(func=_do_run)
+    p.set_defaults(func=interruptible(_do_run))
 
 
 def _do_run(args: argparse.Namespace) -> int:
@@ -47,4 +61,7 @@ def _do_run(args: argparse.Namespace) -> int:
     failed = check_run(scenario, record)
     for message in failed:
         print(f"CHECK FAILED: {message}")
-    return EXIT_CHECK_FAILED if failed else 0
+    faults = unexpected_faults(records, scenario.checks.expect_events)
+    for line in faults:
+        print(f"FAULT: {line}")
+    return EXIT_CHECK_FAILED if failed else (EXIT_FAULT_EVENT if faults else 0)

@@ -14,7 +14,7 @@
 Lock-step over a bus (:class:`BusLink`, ``realtime=False``): each cycle the
 master sends its frames, then ``SimClock`` (``SimTimeMs = round(t * 1000)``);
 the ECU (``crd ecu --sim-time``) runs one cycle on it, after the frames before
-it, and the master waits up to ``reply_timeout_s`` (wall time) for that
+it, and the master waits up to ``stall_timeout_s`` (wall time) for that
 cycle's ``SafetyOverride`` (and, for a spawned ECU, the ``EcuStatus`` due in
 that cycle) before it advances. The ECU sees the same frames at the same cycle
 times as in process, so metrics and time series are identical.
@@ -25,11 +25,16 @@ wall-clock deadline ``t0 + k * 0.01 s`` and takes whatever the ECU (running
 jitter of the master's cycle starts are reported (same definitions as
 :mod:`ecu.scheduler`).
 
-ECU lost: no reply within ``reply_timeout_s`` (lock-step), or no frame at all
-for ``reply_timeout_s`` (real time), or a bus error after which the spawned
-process is dead or no peer is left, records an ``ecu_lost`` event; the master
-then stops waiting and the gateway's ``SafetyOverride`` timeout returns the
-plant to the driver's commands. Nothing waits without a bound.
+ECU lost: no frame at all for ``reply_timeout_s`` (real time), or a bus error
+after which the spawned process is dead or no peer is left, records an
+``ecu_lost`` event; the master then stops waiting and the gateway's
+``SafetyOverride`` timeout returns the plant to the driver's commands (the
+run exits 4 unless ``[checks] expect_events`` lists ``ecu_lost``). An ECU that
+is there but silent in lock-step is a stall (:mod:`cosim.link.stall`): the
+master waits up to ``stall_timeout_s`` with simulated time held, then stops
+the run with an error. Nothing waits without a bound. Events are rate-limited
+(:class:`cosim.results.events.EventLog`): a dead peer fails every frame, and
+only the first few ``bus_error``\ s and a count are kept and logged.
 """
 
 from __future__ import annotations
@@ -51,7 +56,9 @@ from ecu import EcuConfig, EcuNode, Percentiles
 
 from .ecu_process import EcuProcess
 from ..errors import CosimError
+from ..results.events import EventLog
 from ..results.run_record import RunEvent
+from .stall import DEFAULT_STALL_TIMEOUT_S, StallWatch
 
 log = logging.getLogger(__name__)
 
@@ -78,6 +85,7 @@ class EcuOptions:
     join_timeout_s: float = 10.0
     reply_timeout_s: float = 1.0
     stop_timeout_s: float = 5.0
+    stall_timeout_s: float = DEFAULT_STALL_TIMEOUT_S  # lock-step: longest wait for one cycle's reply
 
     def __post_init__(self) -> None:
         if self.interface is None:
@@ -90,7 +98,7 @@ class EcuOptions:
         if self.realtime and self.mode == "inprocess":
             raise EcuLinkError("--realtime: expected --ecu process or attach (an ECU on its own clock), "
                                "got inprocess")
-        for name in ("join_timeout_s", "reply_timeout_s", "stop_timeout_s"):
+        for name in ("join_timeout_s", "reply_timeout_s", "stop_timeout_s", "stall_timeout_s"):
             if not getattr(self, name) > 0.0:
                 raise EcuLinkError(f"{name}: expected > 0 s, got {getattr(self, name)!r}")
 
@@ -161,9 +169,10 @@ class BusLink:
         self._status_period = config.status_period_cycles if options.mode == "process" else None
         self._tmpdir: Path | None = None
         self.process: EcuProcess | None = None
-        self.events: list[RunEvent] = []
+        self.events = EventLog()
         self.timing: dict[str, float] = {}
         self.ecu_report = ""
+        self._stall = StallWatch(options.reply_timeout_s, options.stall_timeout_s)
         self.lost = False
         self.join_wait_s = 0.0
         self._clock_seq = CounterSequence()
@@ -267,17 +276,19 @@ class BusLink:
         if self._status_period is not None and cycle % self._status_period == 0:
             wanted.add(STATUS_ID)
         first = cycle == 0 and not hasattr(self.bus, "peer_count")
-        wait_s = self.options.join_timeout_s if first else self.options.reply_timeout_s
-        deadline = time.monotonic() + wait_s
+        wait_s = self.options.join_timeout_s if first else self.options.stall_timeout_s
+        started = time.monotonic()
+        deadline = started + wait_s
         while wanted and not self.lost:
             remaining = deadline - time.monotonic()
             if remaining <= 0.0:
-                self._lose(t_s, f"no SafetyOverride for t = {t_s:.3f} s within {wait_s} s wall time")
-                break
+                raise self._stall.expired(t_s, time.monotonic() - started, self._who())
             msg = self._recv(remaining, t_s)
             if msg is not None:
                 received.append(msg)
                 wanted.discard(msg.arbitration_id)
+        if not first:
+            self._stall.waited(t_s, time.monotonic() - started, self.events)
         while (msg := self._recv(0.0, t_s)) is not None:  # e.g. a second ECU's frames
             received.append(msg)
         return received
@@ -295,9 +306,14 @@ class BusLink:
         except can.CanError as exc:
             self._bus_error(t_s, exc)
 
+    def _who(self) -> str:
+        if self.process is None:
+            return f"the ECU on {self.options.interface} {self.channel}"
+        return f"crd ecu pid {self.process.pid}, {'still running' if self.process.alive() else 'exited'}"
+
     def _bus_error(self, t_s: float, exc: Exception) -> None:
-        log.warning("t=%.3f s: bus error: %s", t_s, exc)
-        self.events.append(RunEvent(t_s, "bus_error", str(exc)))
+        if self.events.add(RunEvent(t_s, "bus_error", str(exc))):  # rate-limited: a dead peer fails every frame
+            log.warning("t=%.3f s: bus error: %s", t_s, exc)
         gone = getattr(self.bus, "peer_count", 1) == 0
         if self.process is not None and gone:
             try:  # it left the bus; give the kernel a moment to report its exit

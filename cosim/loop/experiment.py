@@ -9,14 +9,16 @@ evaluates ``[checks]``.
 from __future__ import annotations
 
 import logging
+import signal
 from pathlib import Path
 from typing import Callable, Sequence
 
 from ..link.ecu_link import EcuOptions
-from ..errors import PlantError
-from .master import Progress, ecu_config, run_scenario
+from ..errors import PlantError, RunInterrupted
+from .master import ClosedLoop, Progress, ecu_config
 from ..results.plots import speed_profiles, timeline
-from ..results.writer import provenance, write_metrics, write_resolved_config, write_run
+from ..results.stream import RunStream, check_out_dir
+from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
 from ..results.run_record import RunRecord
 from ..scenarios.config import Scenario
 
@@ -54,6 +56,9 @@ def check_run(scenario: Scenario, record: RunRecord) -> list[str]:
         failed.append(f"min_contingency_invocations: expected >= {c.min_contingency_invocations}, got {n}")
     if c.max_contingency_invocations is not None and n > c.max_contingency_invocations:
         failed.append(f"max_contingency_invocations: expected <= {c.max_contingency_invocations}, got {n}")
+    for kind in c.expect_events:
+        if not any(e.kind == kind for e in record.events):
+            failed.append(f"expect_events: expected a {kind} event, none occurred")
     return failed
 
 
@@ -64,24 +69,87 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     """Run each strategy; with ``out_dir``, write metrics, logs, time series, config and plots.
 
     ``ecu`` says where the ECU runs (default: in process); see :mod:`cosim.link.ecu_link`.
+    With ``out_dir``: the directory is checked before anything runs; each run's time series
+    and CAN log are streamed (:class:`cosim.results.stream.RunStream`); ``metrics.json``
+    (with each run's status) is written before the first run, after each, and on every
+    way out. A run ended by SIGINT/SIGTERM stops the series: its results are written, then
+    :class:`~cosim.errors.RunInterrupted` is raised on.
     """
+    if out_dir is not None:
+        check_out_dir(out_dir, strategies)
     fmu_path = resolve_fmu(scenario)
     for strategy in strategies:  # fail fast on a bad [ecu] before any run
         ecu_config(scenario, strategy)
-    records = []
-    for strategy in strategies:
-        show = progress(strategy) if progress else None
-        record = run_scenario(scenario, fmu_path, strategy, show, ecu=ecu)
-        if show is not None:
-            show(record.metrics.sim_time_s, record.metrics.sim_time_s)  # final line
-        records.append(record)
+    records: list[RunRecord] = []
+    status, error = "running", None
+    try:
         if out_dir is not None:
-            run_dir = write_run(out_dir, record, can_log_name)
-            timeline(run_dir / "timeline.png", record)
-    if out_dir is not None:
-        prov = provenance(scenario, records)
-        write_metrics(out_dir / "metrics.json", records, prov)
-        write_resolved_config(out_dir / "config.resolved.toml", scenario, ecu_config(scenario, strategies[0]), prov)
-        obj = scenario.object
-        speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None)
+            out_dir.mkdir(parents=True, exist_ok=True)
+            write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
+        for strategy in strategies:
+            record = _run_one(scenario, fmu_path, strategy, out_dir, can_log_name, progress, ecu)
+            records.append(record)
+            if record.interrupted:
+                break
+            if out_dir is not None:
+                write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
+        status = "interrupted" if records and records[-1].interrupted else \
+            "error" if any(r.error for r in records) else "complete"
+    except KeyboardInterrupt as exc:
+        status, error = "interrupted", str(exc)
+        raise
+    except BaseException as exc:
+        status, error = "error", str(exc)
+        raise
+    finally:
+        if out_dir is not None:
+            _write_summary(out_dir, scenario, strategies, records, status, error)
+    if status == "interrupted":
+        last = records[-1]
+        raise RunInterrupted(signal.Signals[last.interrupted], f"{last.strategy} interrupted by {last.interrupted} "
+                             f"at t = {last.metrics.sim_time_s:.2f} s" + (f"; results so far in {out_dir}"
+                                                                          if out_dir is not None else ""))
     return records
+
+
+def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | None, can_log_name: str,
+             progress: Callable[[str], Progress] | None, ecu: EcuOptions | None) -> RunRecord:
+    """One strategy's run, its files streamed under ``out_dir/<strategy>/`` as it goes."""
+    show = progress(strategy) if progress else None
+    stream = RunStream(out_dir / strategy, can_log_name) if out_dir is not None else None
+    loop: ClosedLoop | None = None
+    try:
+        loop = ClosedLoop(scenario, fmu_path, strategy, ecu=ecu)
+
+        def tick(t_s: float, duration_s: float) -> None:  # every 100 ECU cycles
+            if stream is not None:
+                stream.flush(loop.record)
+            if show is not None:
+                show(t_s, duration_s)
+
+        record = loop.run(tick)
+    finally:
+        if stream is not None:
+            stream.close(loop.record if loop is not None else None)
+    if show is not None:
+        show(record.metrics.sim_time_s, record.metrics.sim_time_s)  # final line
+    if out_dir is not None:
+        write_events(out_dir / strategy / "events.json", record)
+        timeline(out_dir / strategy / "timeline.png", record)
+    return record
+
+
+def _write_summary(out_dir: Path, scenario: Scenario, strategies: Sequence[str], records: list[RunRecord],
+                   status: str, error: str | None) -> None:
+    """``metrics.json`` first (the one file every way out must leave), then the config and the plot."""
+    prov = provenance(scenario, records)
+    write_metrics(out_dir / "metrics.json", records, prov, status, error)
+    try:
+        write_resolved_config(out_dir / "config.resolved.toml", scenario, ecu_config(scenario, strategies[0]), prov)
+        if records:
+            obj = scenario.object
+            speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None)
+    except Exception as exc:  # noqa: BLE001 - on the way out of a failed run, never mask its error
+        if status == "complete":
+            raise
+        log.warning("could not write the summary files after the run stopped (%s): %s", status, exc)

@@ -51,11 +51,12 @@ from ecu.bus_port import KMH_PER_MPS
 
 from ..world.driver_models import make_driver
 from ..link.ecu_link import EcuOptions, open_link
-from ..errors import FmiStepError
+from ..errors import EcuStallError, FmiStepError, interrupt_signal, signal_name
 from ..world.gateway import Actuation, Gateway
-from ..world.plant import open_plant
+from ..world.plant import finite_check, open_plant
 from ..world.plant_fmu import PlantSample
 from ..world.radar_model import RadarModel
+from ..results.events import merge_events
 from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
 from ..scenarios.config import ECU_CYCLE_S, OBJECT_TRACK_PERIOD_S, Scenario
 from ..world.scene_objects import LaneObject
@@ -106,6 +107,7 @@ class ClosedLoop:
         self._seq = {name: CounterSequence() for name in ("DriverInput", "WheelSpeeds", "ObjectTrack")}
         self._cost = dict.fromkeys(PHASES, 0) if profile else None
         self.plant = open_plant(scenario.plant, fmu_path)
+        self._check_sample = finite_check(scenario.plant)  # NaN/Inf output: an error naming time and variable
         self.record.fmu_path, self.record.fmu_sha256 = str(fmu_path), self.plant.sha256
         self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
         try:
@@ -135,6 +137,7 @@ class ClosedLoop:
             self.link.pace(cycle)
         c0 = clock() if cost is not None else 0
         sample = self.plant.read()
+        self._check_sample(sample, t_s)
         c1 = clock() if cost is not None else 0
         bumper_m = sample.position_m + self.sc.plant.front_bumper_offset_m
         gap_m = self.obj.gap_m(t_s, bumper_m) if self.obj else float("inf")
@@ -232,13 +235,23 @@ class ClosedLoop:
             if not self.record.metrics.collided:
                 self._final(k * self.h_s)
         except FmiStepError as exc:
-            self.record.error = str(exc)
-            self.record.events.append(RunEvent(exc.time_s, "fmi_error", str(exc)))
-            log.error("%s: %s", self.strategy, exc)
+            self._stop_on(exc.time_s, "fmi_error", str(exc))
+        except EcuStallError as exc:
+            self._stop_on(exc.time_s, "ecu_stalled", str(exc))
+        except KeyboardInterrupt as exc:  # SIGINT, or SIGTERM via cosim.cli.signals: keep what was run
+            self.record.interrupted = signal_name(interrupt_signal(exc))
+            self.record.events.append(RunEvent(k * self.h_s, "interrupted", f"{self.record.interrupted}: "
+                                               f"stopped at t = {k * self.h_s:.3f} s, results so far kept"))
         finally:
             self.close()
         self._finish(k * self.h_s, time.perf_counter() - wall0, cycle)
         return self.record
+
+    def _stop_on(self, t_s: float, kind: str, message: str) -> None:
+        """An error that ends the run early; the record keeps everything up to ``t_s``."""
+        self.record.error = message
+        self.record.events.append(RunEvent(t_s, kind, message))
+        log.error("%s: %s", self.strategy, message)
 
     def _track(self, gap_m: float) -> None:
         m = self.record.metrics
@@ -248,6 +261,7 @@ class ClosedLoop:
     def _final(self, t_s: float) -> None:
         """Final sample at the end of the run (outputs after the last step)."""
         sample = self.plant.read()
+        self._check_sample(sample, t_s)
         gap = self.obj.gap_m(t_s, sample.position_m + self.sc.plant.front_bumper_offset_m) if self.obj else None
         m = self.record.metrics
         m.final_gap_m = gap
@@ -262,8 +276,7 @@ class ClosedLoop:
         m.contingency_invocations = self.gateway.contingency_invocations
         if m.min_gap_m is not None and not np.isfinite(m.min_gap_m):
             m.min_gap_m = None
-        self.record.events[:0] = self.gateway.events
-        self.record.events[:0] = self.link.events
+        self.record.events = merge_events(self.link.events, self.gateway.events, self.record.events)
         self.record.timing = dict(self.link.timing)
         self.record.ecu_report = getattr(self.link, "ecu_report", "")
         self.record.ecu_join_wait_s = getattr(self.link, "join_wait_s", 0.0)

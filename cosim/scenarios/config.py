@@ -173,15 +173,25 @@ class EcuSection:
     parameters: Mapping[str, object] = field(default_factory=lambda: MappingProxyType({}))
 
 
+#: events ``[checks] expect_events`` may name: the faults that otherwise make a run exit 4
+#: (``cosim.results.events.FAULT_EVENTS``)
+EXPECTABLE_EVENTS = ("ecu_lost", "second_ecu", "auth_failure", "ecu_security_fault")
+
+
 @dataclass(frozen=True)
 class ChecksConfig:
-    """``[checks]``: expectations on the run's metrics; ``None`` = not checked."""
+    """``[checks]``: expectations on the run's metrics; ``None`` = not checked.
+
+    ``expect_events``: fault events this scenario provokes on purpose (e.g. ``["ecu_lost"]``):
+    each must occur (else the check fails, exit 3), and does not make the run exit 4.
+    """
 
     no_collision: bool | None = None
     min_gap_m: float | None = field(default=None, metadata=_r(-1e5, 1e5))
     max_impact_speed_mps: float | None = field(default=None, metadata=_r(0.0, 200.0))
     min_contingency_invocations: int | None = field(default=None, metadata=_r(0, 10**6))
     max_contingency_invocations: int | None = field(default=None, metadata=_r(0, 10**6))
+    expect_events: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

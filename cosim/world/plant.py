@@ -15,7 +15,7 @@ child process with a watchdog). :func:`open_plant` picks one from
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Protocol
+from typing import Callable, Protocol
 
 from ..scenarios.config import PlantConfig
 from .plant_fmu import FmuPlant, PlantSample
@@ -53,3 +53,23 @@ def open_plant(cfg: PlantConfig, fmu_path: Path) -> Plant:
 
         return IsolatedPlant(cfg, fmu_path, cfg.step_timeout_s)
     return FmuPlant(cfg, fmu_path)
+
+
+def finite_check(cfg: PlantConfig) -> Callable[[PlantSample, float], None]:
+    """A check for one sample read at ``t_s``: a NaN or infinite output raises FmiStepError naming both.
+
+    The master calls it once per ECU cycle on what it read (the isolated plant also checks in its
+    child). The fast path is one sum: a NaN or an infinity makes ``s - s`` non-zero (so can an
+    overflow of the sum, after which the slow path finds every value finite and passes).
+    """
+    from .plant_process import _check_finite, _output_names
+
+    names = _output_names(cfg)
+
+    def check(sample: PlantSample, t_s: float) -> None:
+        w = sample.wheel_speeds_mps
+        s = sample.position_m + sample.speed_mps + sample.accel_mps2 + w[0] + w[1] + w[2] + w[3]
+        if s - s != 0.0:
+            _check_finite(sample, names, t_s)
+
+    return check

@@ -17,3 +17,10 @@ def faulty_fmu(tmp_path_factory) -> Path:
     subprocess.run([sys.executable, "-m", "pythonfmu", "build", "-f", str(HERE / "faulty_slave.py"),
                     "-d", str(out)], check=True, capture_output=True)
     return out / "Faulty.fmu"
+
+
+@pytest.fixture(scope="session")
+def plant_fmu3() -> Path:
+    from fmu_plant.build import ensure_fmu
+
+    return Path(ensure_fmu(fmi_version=3))
