@@ -34,7 +34,7 @@ is there but silent in lock-step is a stall (:mod:`cosim.link.stall`): the
 master waits up to ``stall_timeout_s`` with simulated time held, then stops
 the run with an error. Nothing waits without a bound. Events are rate-limited
 (:class:`cosim.results.events.EventLog`): a dead peer fails every frame, and
-only the first few ``bus_error``\ s and a count are kept and logged.
+only the first few ``bus_error`` events and a count are kept and logged.
 """
 
 from __future__ import annotations

@@ -58,7 +58,7 @@ def check_run(scenario: Scenario, record: RunRecord) -> list[str]:
         failed.append(f"max_contingency_invocations: expected <= {c.max_contingency_invocations}, got {n}")
     for kind in c.expect_events:
         if not any(e.kind == kind for e in record.events):
-            failed.append(f"expect_events: expected a {kind} event, none occurred")
+            failed.append(f"expect_events: expected {kind}, which did not occur")
     return failed
 
 

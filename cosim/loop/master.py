@@ -31,6 +31,15 @@ bumper reaches the object's rear; the run stops at that plant step and records
 the relative impact speed. Between cycles the position is read only when a
 collision is possible within the cycle, which keeps the run deterministic and
 cheap.
+
+How a run ends (``RunRecord.status``): ``ok`` at its duration, ``collided``,
+``error`` (the FMU failed or gave a NaN/Inf output, checked once per cycle on
+what the master reads; or, in lock-step, the ECU stalled past
+``stall_timeout_s``: :mod:`cosim.link.stall`), or ``interrupted`` (SIGINT, or
+SIGTERM via :mod:`cosim.cli.signals`). In every case the record keeps all
+cycles up to the stop, and the FMU, an ECU process and the bus are closed.
+Events from the link, the gateway and the loop are merged rate-limited
+(:func:`cosim.results.events.merge_events`).
 """
 
 from __future__ import annotations
