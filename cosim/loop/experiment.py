@@ -105,11 +105,15 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
         if out_dir is not None:
             _write_summary(out_dir, scenario, strategies, records, status, error)
     if status == "interrupted":
-        last = records[-1]
-        raise RunInterrupted(signal.Signals[last.interrupted], f"{last.strategy} interrupted by {last.interrupted} "
-                             f"at t = {last.metrics.sim_time_s:.2f} s" + (f"; results so far in {out_dir}"
-                                                                          if out_dir is not None else ""))
+        raise _interrupted(records[-1], out_dir)
     return records
+
+
+def _interrupted(record: RunRecord, out_dir: Path | None) -> RunInterrupted:
+    """The interrupt a run recorded, raised on to the CLI (which exits 128 + signal)."""
+    where = f"; results so far in {out_dir}" if out_dir is not None else ""
+    return RunInterrupted(signal.Signals[record.interrupted], f"{record.strategy} interrupted by "
+                          f"{record.interrupted} at t = {record.metrics.sim_time_s:.2f} s{where}")
 
 
 def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | None, can_log_name: str,
