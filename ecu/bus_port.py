@@ -3,7 +3,7 @@
 :class:`InputLatch` keeps the latest fresh value of each input message and the
 cycle time at which it was received, and builds :class:`~ecu.core.CoreInputs`
 from them. Conversions (DBC -> SI): wheel speeds km/h / 3.6 -> m/s, pedals
-% / 100 -> fraction, object range m, range rate m/s (negative closing),
+% / 100 -> fraction, object range m, range rate m/s (negative closing), lateral m,
 ``ObjectValid`` 0/1 -> bool. The outgoing side encodes ``SafetyOverride`` and
 ``EcuStatus`` through ``can_dbc.encode`` (counter and CRC filled in); status
 values are clamped into their DBC ranges because they are informational. Each
@@ -58,6 +58,7 @@ class InputLatch:
         self.object_valid = False
         self.object_range_m = 0.0
         self.object_range_rate_mps = 0.0
+        self.object_lateral_m = 0.0
         self.rx_t_s = {name: NEVER_S for name in INPUT_MESSAGES}
         self._handlers: dict[str, Callable[[dict], None]] = {
             "WheelSpeeds": self._wheels,
@@ -88,6 +89,7 @@ class InputLatch:
         self.object_valid = bool(s["ObjectValid"])
         self.object_range_m = s["ObjectRange"]
         self.object_range_rate_mps = s["ObjectRangeRate"]
+        self.object_lateral_m = s["ObjectLateral"]
 
     def inputs(self, t_s: float, receiver: Receiver) -> CoreInputs:
         """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores."""
@@ -106,6 +108,7 @@ class InputLatch:
             wheel_e2e_score=receiver.score("WheelSpeeds"),
             driver_e2e_score=receiver.score("DriverInput"),
             object_e2e_score=receiver.score("ObjectTrack"),
+            object_lateral_m=self.object_lateral_m,
         )
 
 

@@ -27,6 +27,7 @@ SUBCOMMANDS: dict[str, str] = {
     "ecu": "ecu.cli",
     "run": "cosim.cli.run",
     "paper": "cosim.cli.paper",
+    "matrix": "cosim.cli.matrix",
 }
 
 

@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import itertools
 import logging
+import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -68,12 +69,11 @@ from ..world.radar_model import RadarModel
 from ..results.events import merge_events
 from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
 from ..scenarios.config import ECU_CYCLE_S, OBJECT_TRACK_PERIOD_S, Scenario
-from ..world.scene_objects import LaneObject
+from ..world.scene import Scene
 
 log = logging.getLogger(__name__)
 
 _WHEEL_MAX_KMH = signal_layout("WheelSpeeds", "WheelSpeedFL").maximum
-_ACCEL_BOUND_MPS2 = 50.0  # no plant moves faster than this within a cycle: bounds the collision look-ahead
 PHASES = ("fmu", "codec", "bus", "ecu", "logging", "models")
 
 Progress = Callable[[float, float], None]
@@ -107,7 +107,8 @@ class ClosedLoop:
         self.h_s = scenario.scenario.step_s
         self.n_sub = int(round(ECU_CYCLE_S / self.h_s))
         self.n_track = int(round(OBJECT_TRACK_PERIOD_S / ECU_CYCLE_S))
-        self.obj = LaneObject.from_config(scenario.object)
+        self.scene = Scene(scenario.scene_objects(), scenario.plant, scenario.radar, scenario.end)
+        self._bumper_m = 0.0  # front bumper at this cycle's first half (m): the contact look-ahead's start
         self.driver = make_driver(scenario.driver)
         self.radar = RadarModel(scenario.radar, np.random.default_rng(scenario.scenario.seed))
         self.ecu = ecu if ecu is not None else EcuOptions()
@@ -148,11 +149,12 @@ class ClosedLoop:
         sample = self.plant.read()
         self._check_sample(sample, t_s)
         c1 = clock() if cost is not None else 0
-        bumper_m = sample.position_m + self.sc.plant.front_bumper_offset_m
-        gap_m = self.obj.gap_m(t_s, bumper_m) if self.obj else float("inf")
+        bumper_m = self._bumper_m = sample.position_m + self.sc.plant.front_bumper_offset_m
+        gap_m = self.scene.observe(t_s, bumper_m) if self.scene else float("inf")
         pedals = self.driver(t_s, sample.position_m, sample.speed_mps)
-        if self.obj:
-            self.radar.sample(gap_m, self.obj.speed_mps - sample.speed_mps, self.obj.lateral_m)
+        truth = self.scene.radar_truth(t_s, bumper_m, sample.speed_mps) if self.scene else None
+        if truth is not None:
+            self.radar.sample(truth.gap_m, truth.range_rate_mps, truth.lateral_m)
         else:
             self.radar.sample(None, 0.0)
         c2 = clock() if cost is not None else 0
@@ -192,8 +194,7 @@ class ClosedLoop:
         plant, h = self.plant, self.h_s
         plant.set_actuation(applied.throttle, applied.brake)
         span = self.n_sub * h
-        closing = speed_mps - (self.obj.speed_mps if self.obj else 0.0)
-        watch = self.obj is not None and gap_m <= max(closing, 0.0) * span + 0.5 * _ACCEL_BOUND_MPS2 * span**2 + 0.01
+        watch = bool(self.scene) and self.scene.may_contact(k * h, self._bumper_m, speed_mps, span)
         collided = False
         if self.batch_steps and not watch:
             plant.step(k * h, span)
@@ -204,19 +205,19 @@ class ClosedLoop:
                 k += 1
                 if watch:
                     pos, v = plant.position_speed()
-                    gap = self.obj.gap_m(k * h, pos + self.sc.plant.front_bumper_offset_m)
-                    if gap <= 0.0:
-                        self._collide(k * h, gap, v)
+                    hit = self.scene.contact(k * h, pos + self.sc.plant.front_bumper_offset_m)
+                    if hit is not None:
+                        self._collide(k * h, hit[1], v - hit[0].lon_state(k * h)[1])
                         collided = True
                         break
         if self._cost is not None:
             self._cost["fmu"] += time.perf_counter_ns() - c0
         return k, collided
 
-    def _collide(self, t_s: float, gap_m: float, speed_mps: float) -> None:
+    def _collide(self, t_s: float, gap_m: float, closing_mps: float) -> None:
         m = self.record.metrics
         m.collided = True
-        m.impact_speed_mps = speed_mps - self.obj.speed_mps
+        m.impact_speed_mps = closing_mps
         m.min_gap_m = gap_m if m.min_gap_m is None else min(m.min_gap_m, gap_m)
         self.record.events.append(RunEvent(t_s, "collision", f"relative impact speed {m.impact_speed_mps:.3f} m/s"))
         log.info("%s: collision at t=%.3f s, %.2f m/s", self.strategy, t_s, m.impact_speed_mps)
@@ -235,6 +236,8 @@ class ClosedLoop:
                 out = self._cycle_out(t_s, cycle)
                 nxt = self._cycle_in(t_s, cycle, out, applied)
                 self._track(out.gap_m)
+                if self._ended(t_s, out.sample.speed_mps):
+                    break
                 k, collided = self._advance(k, applied, out.gap_m, out.sample.speed_mps)
                 applied, cycle = nxt, cycle + 1
                 if progress is not None and cycle % 100 == 0:
@@ -267,11 +270,21 @@ class ClosedLoop:
         m.min_gap_m = gap_m if m.min_gap_m is None else min(m.min_gap_m, gap_m)
         m.max_speed_mps = max(m.max_speed_mps, self.record.rows[-1][2])
 
+    def _ended(self, t_s: float, speed_mps: float) -> bool:
+        """An ``[end]`` condition has been met (recorded as an ``end`` event)."""
+        reason = self.scene.end_reason(t_s, self._bumper_m, speed_mps) if self.scene else None
+        if reason is not None:
+            self.record.metrics.end_reason = reason
+            self.record.events.append(RunEvent(t_s, "end", reason))
+        return reason is not None
+
     def _final(self, t_s: float) -> None:
         """Final sample at the end of the run (outputs after the last step)."""
         sample = self.plant.read()
         self._check_sample(sample, t_s)
-        gap = self.obj.gap_m(t_s, sample.position_m + self.sc.plant.front_bumper_offset_m) if self.obj else None
+        gap = self.scene.path_gap(t_s, sample.position_m + self.sc.plant.front_bumper_offset_m)[0] \
+            if self.scene else None
+        gap = gap if gap is None or math.isfinite(gap) else None
         m = self.record.metrics
         m.final_gap_m = gap
         if gap is not None:

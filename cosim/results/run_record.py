@@ -37,6 +37,8 @@ class RunMetrics:
     max_speed_mps: float = 0.0
     sim_time_s: float = 0.0
     wall_time_s: float = 0.0
+    #: why the run ended early: an ``[end]`` condition (``standstill``, ``matched_speed``), else None
+    end_reason: str | None = None
 
     def as_dict(self) -> dict:
         return {k: getattr(self, k) for k in self.__dataclass_fields__}

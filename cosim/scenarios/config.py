@@ -64,6 +64,9 @@ BUILTIN_OUTPUTS = (
     SignalMap("wheel_speeds", ("wheel_speed_fl", "wheel_speed_fr", "wheel_speed_rl", "wheel_speed_rr")),
 )
 
+INITIAL_ROLES = ("speed",)
+BUILTIN_INITIAL = (SignalMap("speed", ("v0",)),)
+
 
 @dataclass(frozen=True)
 class PlantConfig:
@@ -88,9 +91,17 @@ class PlantConfig:
     step_timeout_s: float = field(default=5.0, metadata=_r(0.01, 3600.0))
     accel_gain_mps2: float = field(default=3.0, metadata=_r(0.0, 20.0))
     brake_gain_mps2: float = field(default=9.0, metadata=_r(0.0, 20.0))
+    #: speed at t = 0 (m/s), set through the ``[plant.initial]`` ``speed`` parameter
+    #: (builtin: ``v0``); 0 leaves the FMU's own start value.
+    initial_speed_mps: float = field(default=0.0, metadata=_r(0.0, 80.0))
+    #: body of the vehicle for contact (collision needs longitudinal AND lateral
+    #: overlap); defaults: Euro NCAP's reference VUT, 4.358 x 1.815 m.
+    length_m: float = field(default=4.358, metadata=_r(0.5, 30.0))
+    width_m: float = field(default=1.815, metadata=_r(0.5, 5.0))
     parameters: Mapping[str, float | bool] = field(default_factory=lambda: MappingProxyType({}))
     inputs: tuple[SignalMap, ...] = BUILTIN_INPUTS
     outputs: tuple[SignalMap, ...] = BUILTIN_OUTPUTS
+    initial: tuple[SignalMap, ...] = BUILTIN_INITIAL
 
     def input_map(self, role: str) -> SignalMap | None:
         return next((m for m in self.inputs if m.role == role), None)
@@ -106,31 +117,59 @@ class DriverConfig:
     ``full_throttle``: accelerator at ``accel_pedal_pct`` always (the paper's distracted driver).
     ``cruise``: P control on speed, ``pedal% = gain_pct_per_mps * (set_speed_mps - v)``,
     positive to the accelerator, negative to the brake.
+    ``hold_speed``: PI control on speed (no steady-state error), accelerator only
+    (never brakes), optional release after a ``release_drop_mps`` drop
+    (:func:`cosim.world.driver_models.hold_speed`).
     ``scripted``: ``points`` = rows ``[at, accel_pct, brake_pct]`` with ``at`` in s
     (``over = "time"``) or m (``over = "position"``), linearly interpolated, held at the ends.
     """
 
-    model: str = field(default="full_throttle", metadata=_c("full_throttle", "cruise", "scripted"))
+    model: str = field(default="full_throttle",
+                       metadata=_c("full_throttle", "cruise", "scripted", "hold_speed"))
     accel_pedal_pct: float = field(default=100.0, metadata=_r(0.0, 100.0))
     set_speed_mps: float = field(default=20.0, metadata=_r(0.0, 80.0))
     gain_pct_per_mps: float = field(default=20.0, metadata=_r(0.0, 1000.0))
+    #: ``hold_speed`` only: integral gain (% per m of accumulated speed error).
+    integral_gain_pct_per_m: float = field(default=10.0, metadata=_r(0.0, 1000.0))
+    #: ``hold_speed`` only: release the accelerator for good once the speed is this far
+    #: below the set speed (Euro NCAP robot: 5 km/h); 0 = never release.
+    release_drop_mps: float = field(default=0.0, metadata=_r(0.0, 80.0))
     over: str = field(default="time", metadata=_c("time", "position"))
     points: tuple[tuple[float, float, float], ...] = ()
 
 
 @dataclass(frozen=True)
 class ObjectConfig:
-    """``[object]``: one object in the lane, stationary or at constant speed.
+    """``[object]`` or one of ``[[objects]]``: a body on or beside the path.
 
     ``position_m`` is the object's rear at t = 0 on the path; it occupies
-    ``[rear, rear + length_m]`` and moves at ``speed_mps`` along the path.
+    ``[rear, rear + length_m]`` along the path and ``lateral_m ± width_m/2``
+    across it (left positive), and moves at ``speed_mps`` along the path.
+    Longitudinal profile: constant speed, or braking at ``brake_decel_mps2``
+    (reached linearly within ``brake_ramp_s``) down to ``brake_to_speed_mps``,
+    starting at ``brake_at_s`` or when the ego's gap first falls to
+    ``brake_at_gap_m`` (0 decel = never brakes). Lateral motion: at
+    ``lateral_speed_mps`` toward ``lateral_end_m``, starting at ``lateral_at_s``
+    or at ``lateral_at_gap_m`` (cut-in, cut-out). Equations:
+    :mod:`cosim.world.scene_motion`.
     """
 
     enabled: bool = True
+    name: str = "object"
     position_m: float = field(default=225.0, metadata=_r(-1e5, 1e5))
     speed_mps: float = field(default=0.0, metadata=_r(-80.0, 80.0))
     length_m: float = field(default=1.8, metadata=_r(0.0, 50.0))
+    width_m: float = field(default=0.6, metadata=_r(0.0, 10.0))
     lateral_m: float = field(default=0.0, metadata=_r(-20.0, 20.0))
+    brake_decel_mps2: float = field(default=0.0, metadata=_r(0.0, 15.0))
+    brake_ramp_s: float = field(default=0.0, metadata=_r(0.0, 10.0))
+    brake_to_speed_mps: float = field(default=0.0, metadata=_r(0.0, 80.0))
+    brake_at_s: float | None = field(default=None, metadata=_r(0.0, 3600.0))
+    brake_at_gap_m: float | None = field(default=None, metadata=_r(0.0, 1e4))
+    lateral_speed_mps: float = field(default=0.0, metadata=_r(0.0, 10.0))
+    lateral_end_m: float | None = field(default=None, metadata=_r(-20.0, 20.0))
+    lateral_at_s: float | None = field(default=None, metadata=_r(0.0, 3600.0))
+    lateral_at_gap_m: float | None = field(default=None, metadata=_r(0.0, 1e4))
 
 
 @dataclass(frozen=True)
@@ -148,6 +187,10 @@ class RadarConfig:
     range_rate_noise_std_mps: float = field(default=0.0, metadata=_r(0.0, 10.0))
     max_range_m: float = field(default=200.0, metadata=_r(1.0, 250.0))
     dropout_probability: float = field(default=0.0, metadata=_r(0.0, 1.0))
+    #: full horizontal field of view (deg); an object whose nearest rear corner is
+    #: outside ``±fov/2`` of the bore sight is not seen. Default ±45°: the near-range
+    #: beam of a mid-range automotive radar (class value, [M]).
+    field_of_view_deg: float = field(default=90.0, metadata=_r(1.0, 180.0))
 
 
 @dataclass(frozen=True)
@@ -195,8 +238,24 @@ class ChecksConfig:
 
 
 @dataclass(frozen=True)
+class EndConfig:
+    """``[end]``: conditions that end the run early (contact and ``duration_s`` always do).
+
+    ``standstill``: the ego's speed falls to ``standstill_speed_mps`` after having been
+    above it. ``matched_speed``: the ego's speed falls to that of the nearest object
+    ahead in its path after having been ``matched_speed_margin_mps`` above it (Euro
+    NCAP's end of a longitudinal test: the VUT reaches the target's speed).
+    """
+
+    standstill: bool = False
+    matched_speed: bool = False
+    standstill_speed_mps: float = field(default=0.01, metadata=_r(0.0, 5.0))
+    matched_speed_margin_mps: float = field(default=0.5, metadata=_r(0.0, 10.0))
+
+
+@dataclass(frozen=True)
 class Scenario:
-    """A whole scenario file."""
+    """A whole scenario file (``objects``: the ``[[objects]]`` array; then ``object`` is disabled)."""
 
     scenario: ScenarioSection = ScenarioSection()
     plant: PlantConfig = PlantConfig()
@@ -206,3 +265,10 @@ class Scenario:
     gateway: GatewayConfig = GatewayConfig()
     ecu: EcuSection = EcuSection()
     checks: ChecksConfig = ChecksConfig()
+    objects: tuple[ObjectConfig, ...] = ()
+    end: EndConfig = EndConfig()
+
+    def scene_objects(self) -> tuple[ObjectConfig, ...]:
+        """Every enabled object: ``[[objects]]`` if given, else the single ``[object]``."""
+        objs = self.objects or (self.object,)
+        return tuple(o for o in objs if o.enabled)

@@ -24,10 +24,12 @@ from .config import (
     BUILTIN_OUTPUTS,
     INPUT_ROLES,
     OUTPUT_ROLES,
+    INITIAL_ROLES,
     ChecksConfig,
     EXPECTABLE_EVENTS,
     DriverConfig,
     EcuSection,
+    EndConfig,
     GatewayConfig,
     ObjectConfig,
     PlantConfig,
@@ -40,9 +42,10 @@ from .config import (
 _SECTIONS = {
     "scenario": ScenarioSection, "plant": PlantConfig, "driver": DriverConfig,
     "object": ObjectConfig, "radar": RadarConfig, "gateway": GatewayConfig,
-    "ecu": EcuSection, "checks": ChecksConfig,
+    "ecu": EcuSection, "checks": ChecksConfig, "end": EndConfig,
 }
-_SPECIAL = {"parameters", "inputs", "outputs", "points"}
+_ARRAYS = {"objects": ObjectConfig}  # [[name]] arrays of tables
+_SPECIAL = {"parameters", "inputs", "outputs", "points", "initial"}
 
 
 def _unknown(key: str, path: str, valid: typing.Iterable[str]) -> ConfigError:
@@ -183,6 +186,8 @@ def _section(cls: type, table: Any, path: str) -> Any:
             kwargs[key] = _signal_maps(value, INPUT_ROLES, where)
         elif key == "outputs":
             kwargs[key] = _signal_maps(value, OUTPUT_ROLES, where)
+        elif key == "initial":
+            kwargs[key] = _signal_maps(value, INITIAL_ROLES, where)
         elif key == "points":
             kwargs[key] = _points(value, where)
         elif key == "expect_events":
@@ -203,6 +208,32 @@ def _merge_builtin(plant: PlantConfig, given: Mapping[str, Any]) -> PlantConfig:
     return dataclasses.replace(plant, inputs=tuple(inputs.values()), outputs=tuple(outputs.values()))
 
 
+def _arrays(data: Mapping[str, Any]) -> dict[str, Any]:
+    """``[[objects]]``: a list of tables; with it, the single ``[object]`` is disabled."""
+    out: dict[str, Any] = {}
+    for name, cls in _ARRAYS.items():
+        if name not in data:
+            continue
+        if "object" in data:
+            raise ConfigError(f"{name}: expected either [object] or [[{name}]], got both")
+        rows = data[name]
+        if not isinstance(rows, list) or not rows:
+            raise ConfigError(f"{name}: expected one or more [[{name}]] tables, got {rows!r}")
+        out[name] = tuple(_section(cls, row, f"{name}[{i}]") for i, row in enumerate(rows))
+        out["object"] = ObjectConfig(enabled=False)
+    return out
+
+
+def _check_initial(plant: PlantConfig) -> None:
+    if plant.initial_speed_mps > 0.0 and not plant.initial:
+        raise ConfigError("plant.initial_speed_mps: this FMU has no [plant.initial] speed mapping;"
+                          " expected [plant.initial] speed = \"<parameter name>\"")
+    for m in plant.initial:
+        if m.names[0] in plant.parameters and plant.initial_speed_mps > 0.0:
+            raise ConfigError(f"plant.parameters.{m.names[0]}: set by plant.initial_speed_mps"
+                              f" through [plant.initial] {m.role}; expected only one of the two")
+
+
 def _check_plant_roles(plant: PlantConfig) -> None:
     roles_in = {m.role for m in plant.inputs}
     if "accel_command" in roles_in and roles_in & {"throttle", "brake"}:
@@ -219,8 +250,9 @@ def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) ->
 
     A relative ``plant.fmu`` path is resolved against ``base_dir``.
     """
-    _check_keys(data, _SECTIONS, "")
+    _check_keys(data, list(_SECTIONS) + list(_ARRAYS), "")
     sections = {name: _section(cls, data[name], name) for name, cls in _SECTIONS.items() if name in data}
+    sections.update(_arrays(data))
     plant = sections.get("plant", PlantConfig())
     if "plant" in data and plant.fmu == "builtin":
         plant = _merge_builtin(plant, data["plant"])
@@ -229,7 +261,10 @@ def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) ->
             raise ConfigError("plant: a third-party FMU needs [plant.inputs] and [plant.outputs]")
         if base_dir is not None and not Path(plant.fmu).is_absolute():
             plant = dataclasses.replace(plant, fmu=str((base_dir / plant.fmu).resolve()))
+        if "initial" not in data["plant"]:
+            plant = dataclasses.replace(plant, initial=())
     _check_plant_roles(plant)
+    _check_initial(plant)
     sections["plant"] = plant
     scen = sections.get("scenario", ScenarioSection())
     cycles = 0.01 / scen.step_s

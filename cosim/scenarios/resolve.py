@@ -23,24 +23,33 @@ def scenario_to_dict(scenario: Scenario, strategy: str | None = None) -> dict[st
     out: dict[str, Any] = {}
     for section in dataclasses.fields(scenario):
         value = getattr(scenario, section.name)
-        table: dict[str, Any] = {}
-        for f in dataclasses.fields(value):
-            v = getattr(value, f.name)
-            if f.name in ("inputs", "outputs"):
-                table[f.name] = _maps(v)
-            elif f.name == "parameters":
-                if section.name == "ecu":
-                    table.update(v)
-                else:
-                    table[f.name] = dict(v)
-            elif f.name == "points":
-                table[f.name] = [list(row) for row in v]
-            else:
-                table[f.name] = v
-        out[section.name] = table
+        if section.name == "objects":
+            if value:  # [[objects]] replaces [object]
+                out.pop("object", None)
+                out["objects"] = [_table(section.name, o) for o in value]
+            continue
+        out[section.name] = _table(section.name, value)
     if strategy is not None:
         out["ecu"]["strategy"] = strategy
     return out
+
+
+def _table(section: str, value: Any) -> dict[str, Any]:
+    table: dict[str, Any] = {}
+    for f in dataclasses.fields(value):
+        v = getattr(value, f.name)
+        if f.name in ("inputs", "outputs", "initial"):
+            table[f.name] = _maps(v)
+        elif f.name == "parameters":
+            if section == "ecu":
+                table.update(v)
+            else:
+                table[f.name] = dict(v)
+        elif f.name == "points":
+            table[f.name] = [list(row) for row in v]
+        else:
+            table[f.name] = v
+    return table
 
 
 def scenario_to_toml(scenario: Scenario, strategy: str | None = None, header: str = "") -> str:

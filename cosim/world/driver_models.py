@@ -47,6 +47,37 @@ def cruise(cfg: DriverConfig) -> DriverModel:
     return model
 
 
+def hold_speed(cfg: DriverConfig, cycle_s: float = 0.01) -> DriverModel:
+    """A test robot holding ``set_speed_mps``: PI on speed, accelerator only.
+
+    ``e = set_speed_mps - v``; ``I += e * cycle_s`` while the accelerator is not
+    saturated (conditional integration, no wind-up);
+    ``accel% = clip(gain_pct_per_mps * e + integral_gain_pct_per_m * I, 0, 100)``.
+    The integral removes the steady-state error of a P law (the road load needs
+    a non-zero pedal at zero error). It never brakes (a test robot does not
+    override the system under test). With ``release_drop_mps > 0`` it lifts off
+    the accelerator for the rest of the run once ``v < set_speed_mps -
+    release_drop_mps``: the Euro NCAP robot releases the pedal once the speed
+    has dropped by 5 km/h (Euro NCAP 2026 Crash Avoidance - Frontal Collisions
+    v1.1, test conditions). Called once per ECU cycle of ``cycle_s``.
+    """
+    kp, ki = cfg.gain_pct_per_mps, cfg.integral_gain_pct_per_m
+    state = {"integral": 0.0, "released": False}
+
+    def model(t_s: float, position_m: float, speed_mps: float) -> Pedals:
+        error = cfg.set_speed_mps - speed_mps
+        if cfg.release_drop_mps > 0.0 and error > cfg.release_drop_mps:
+            state["released"] = True
+        if state["released"]:
+            return Pedals(0.0, 0.0)
+        u = kp * error + ki * state["integral"]
+        if 0.0 < u < 100.0 or (u >= 100.0 and error < 0.0) or (u <= 0.0 and error > 0.0):
+            state["integral"] += error * cycle_s
+        return Pedals(min(100.0, max(0.0, u)), 0.0)
+
+    return model
+
+
 def scripted(cfg: DriverConfig) -> DriverModel:
     """Pedals interpolated linearly from the breakpoint table ``cfg.points``.
 
@@ -70,6 +101,7 @@ DRIVER_MODELS: dict[str, Callable[[DriverConfig], DriverModel]] = {
     "full_throttle": full_throttle,
     "cruise": cruise,
     "scripted": scripted,
+    "hold_speed": hold_speed,
 }
 
 

@@ -9,7 +9,8 @@ and turns an FMI error into :class:`~cosim.errors.FmiStepError` naming the
 time and the FMI status.
 
 Conversions (SI on our side): output ``si = fmu * scale + offset``; input
-``fmu = role * scale + offset``. An ``accel_command`` FMU gets
+``fmu = role * scale + offset``; ``[plant.initial]`` parameters (the initial
+speed) like inputs. An ``accel_command`` FMU gets
 ``throttle * accel_gain_mps2 - brake * brake_gain_mps2`` (m/s²). Wheel
 speeds in m/s are the wheel outputs (rad/s) × ``wheel_radius_m``, or the
 vehicle speed on every wheel when the FMU has no wheel outputs.
@@ -112,6 +113,10 @@ class FmuPlant:
         out = {m.role: (m, _resolve(md, m.names, "output", f"plant.outputs.{m.role}")) for m in cfg.outputs}
         self._params = [(v, cfg.parameters[v.name]) for v in
                         _resolve(md, tuple(cfg.parameters), "parameter", "plant.parameters")]
+        if cfg.initial_speed_mps > 0.0:  # [plant.initial] speed: fmu = speed * scale + offset
+            for m in cfg.initial:
+                var = _resolve(md, m.names, "parameter", f"plant.initial.{m.role}")[0]
+                self._params.append((var, cfg.initial_speed_mps * m.scale + m.offset))
         self._out_maps = [out[r][0] for r in ("position", "speed", "accel", "wheel_speeds") if r in out]
         out_vrs = [v.valueReference for r in ("position", "speed", "accel", "wheel_speeds") if r in out
                    for v in out[r][1]]

@@ -1,4 +1,8 @@
-"""Forward radar: range and range rate of the lane object, every 50 ms.
+"""Forward radar: range, range rate and lateral offset of one object, every 50 ms.
+
+Which object, and whether it is inside the field of view, is the scene's
+choice (:meth:`cosim.world.scene.Scene.radar_truth`); this model adds the
+sensor's imperfections to that truth.
 
 Range is front bumper → object rear (m), range rate its derivative (m/s,
 negative closing), matching ``ObjectTrack``. Imperfections, all seeded:

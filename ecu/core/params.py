@@ -64,6 +64,16 @@ class CoreParams:
     moving_object_speed_mps: float = 0.5
     #: below this estimated speed the car counts as stopped (releases a held contingency).
     standstill_speed_mps: float = 0.1
+    #: relevance (ecu/core/relevance.py): our width, Euro NCAP's reference VUT (4.358 x 1.815 m).
+    vehicle_width_m: float = 1.815
+    #: an object counts as in our path while its centre is within vehicle_width_m / 2 plus this
+    #: (m): half a car target's width (ISO 19206-3 GVT 1.712 m -> 0.856 m) plus 0.144 m allowance
+    #: for lateral measurement error, i.e. any car body that overlaps ours is in the path.
+    path_margin_m: float = 1.0
+    #: moving objects (ecu/core/relative_stop.py): tightening's proximity margin is this long in
+    #: time at the closing speed, capped at proximity_margin_m, floored at proximity_margin_min_m.
+    proximity_time_s: float = 1.0
+    proximity_margin_min_m: float = 1.0
     wheel_speeds_timeout_s: float = 0.05
     driver_input_timeout_s: float = 0.05
     object_timeout_s: float = 0.25

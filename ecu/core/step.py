@@ -25,6 +25,8 @@ from typing import NamedTuple
 from .modes import ModeDecision, next_mode, planned_mode
 from .output_gate import gate
 from .params import CoreParams
+from .relative_stop import is_moving, moving_proximity, relative_approach_m, relative_disjoint
+from .relevance import in_path
 from .speed_estimate import coast_down_speed_mps, update_speed_mps
 from .stopping_path import closing_speed_mps, is_disjoint, path_distance_m
 from .strategies import NO_TIGHTENING, driver_accel_mps2, proximity, tighten
@@ -46,8 +48,14 @@ class Plan(NamedTuple):
 
 
 def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> Plan:
-    """Tighten the driver's command (if the strategy says so) and check its stopping path."""
-    valid = inputs.object_valid
+    """Tighten the driver's command (if the strategy says so) and check its stopping path.
+
+    An object outside our path is no object (:mod:`ecu.core.relevance`); a moving one is
+    planned at zero relative speed (:mod:`ecu.core.relative_stop`).
+    """
+    valid = inputs.object_valid and in_path(inputs.object_lateral_m, params)
+    if valid and is_moving(speed_mps, inputs.object_range_rate_mps, params):
+        return _plan_moving(inputs, params)
     closing_mps = closing_speed_mps(speed_mps, inputs.object_range_rate_mps, params) if valid else 0.0
     p = proximity(valid, inputs.object_range_m, closing_mps, params)
     tight = tighten(p, params) if params.tightening_enabled else NO_TIGHTENING
@@ -55,6 +63,17 @@ def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> Plan
     distance = path_distance_m(speed_mps, command, valid, inputs.object_range_rate_mps, params)
     return Plan(p, tight.throttle_limit_pct, tight.decel_request_mps2, tight.restricts, distance,
                 is_disjoint(distance, valid, inputs.object_range_m, params))
+
+
+def _plan_moving(inputs: CoreInputs, params: CoreParams) -> Plan:
+    """:func:`plan_cycle` behind a moving object: relative approach, time-scaled proximity."""
+    rate = inputs.object_range_rate_mps
+    p = moving_proximity(inputs.object_range_m, rate, params)
+    tight = tighten(p, params) if params.tightening_enabled else NO_TIGHTENING
+    command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), tight.accel_upper_mps2)
+    approach = relative_approach_m(rate, command, params)
+    return Plan(p, tight.throttle_limit_pct, tight.decel_request_mps2, tight.restricts, approach,
+                relative_disjoint(approach, inputs.object_range_m, params))
 
 
 def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[float, bool, float, int]:

@@ -55,6 +55,7 @@ class CoreInputs(NamedTuple):
     wheel_e2e_score: int = 0
     driver_e2e_score: int = 0
     object_e2e_score: int = 0
+    object_lateral_m: float = 0.0  # the object's centre offset from our path, left positive
 
 
 class CoreState(NamedTuple):

@@ -20,6 +20,7 @@ class PointMass(Fmi2Slave):
         self.speed_kmh = 0.0
         self.fail_at = 1.0e9
         self.lag_s = 0.2
+        self.v_start_kmh = 0.0
         self.register_variable(Real("a_cmd", causality=Fmi2Causality.input))
         self.register_variable(Real("s_m", causality=Fmi2Causality.output))
         self.register_variable(Real("speed_kmh", causality=Fmi2Causality.output))
@@ -28,6 +29,11 @@ class PointMass(Fmi2Slave):
                                     variability=Fmi2Variability.tunable))
         self.register_variable(Real("lag_s", causality=Fmi2Causality.parameter,
                                     variability=Fmi2Variability.tunable))
+        self.register_variable(Real("v_start_kmh", causality=Fmi2Causality.parameter,
+                                    variability=Fmi2Variability.tunable))
+
+    def exit_initialization_mode(self):
+        self.speed_kmh = self.v_start_kmh
 
     def do_step(self, current_time, step_size):
         if current_time >= self.fail_at:

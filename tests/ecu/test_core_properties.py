@@ -6,6 +6,7 @@ from dataclasses import replace
 
 from hypothesis import given, settings, strategies as st
 
+from ecu.core.relative_stop import is_moving, relative_approach_m, relative_disjoint
 from ecu.core import CoreInputs, CoreParams, CoreState, Mode, step
 from ecu.core.stopping_path import is_disjoint, path_distance_m
 from ecu.core.strategies import driver_accel_mps2
@@ -89,7 +90,12 @@ def test_never_more_throttle_than_the_disjointness_check_allows(p, cycles):
         # the driver's command clipped to what the throttle limit lets through, held, must still stop in time
         allowed = out.throttle_limit_pct / 100.0 * p.driver_max_accel_mps2
         command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, p), allowed)
-        d = path_distance_m(out.speed_estimate_mps, command, inputs.object_valid, inputs.object_range_rate_mps, p)
+        rate = inputs.object_range_rate_mps
+        if inputs.object_valid and is_moving(out.speed_estimate_mps, rate, p):  # zero relative speed
+            approach = relative_approach_m(rate, command, p)
+            assert relative_disjoint(approach - 1e-9, inputs.object_range_m, p)
+            continue
+        d = path_distance_m(out.speed_estimate_mps, command, inputs.object_valid, rate, p)
         assert is_disjoint(d - 1e-9, inputs.object_valid, inputs.object_range_m, p)
 
 

@@ -1,0 +1,71 @@
+"""Behind a moving object: stop at zero RELATIVE speed, and release as the gap opens.
+
+For a moving object (:func:`ecu.core.stopping_path.closing_speed_mps`) the
+paper's "stop" is zero relative speed (Johnson 2019, footnote 1). With the
+relative speed ``u = -range_rate`` (positive closing, NEGATIVE when the gap
+opens), the command ``a`` held for ``t_h`` and then braking at ``D`` against
+an object at constant speed, the relative displacement toward the object is::
+
+    x(t) = u t + a t^2 / 2            (0 <= t <= t_h)
+    u_h  = u + a t_h
+    approach = max over the path of x = x(t_h) + u_h^2 / (2D)   if u_h > 0
+             = u^2 / (-2a)                                        if u > 0 >= u_h
+             = 0                                                   otherwise
+
+The path is disjoint when ``approach + standoff <= range`` OR when
+``approach == 0``: a path that never brings us closer cannot be made safer by
+braking. So after braking to zero relative speed the contingency releases as
+soon as the gap opens under the driver's command, instead of braking on to a
+standstill while the range is below the standoff.
+
+Tightening's proximity margin for a moving object is a time at the closing
+speed (``proximity_time_s``), capped at ``proximity_margin_m`` and floored at
+``proximity_margin_min_m``: following at a steady gap (closing ~0) is normal
+driving and is not "near the contingency boundary" (Euro NCAP starts its
+tests at TTC 4 s; a range-only margin engaged at ~12 m whatever the closing
+speed). Stationary objects keep the range margin of the paper reproduction.
+"""
+
+from __future__ import annotations
+
+from .params import CoreParams
+
+
+def relative_approach_m(range_rate_mps: float, accel_mps2: float, params: CoreParams) -> float:
+    """How much closer (m, >= 0) the command's stopping path brings us to a constant-speed object."""
+    u, a, t_h, d = -range_rate_mps, accel_mps2, params.hold_time_s, params.model_decel_mps2
+    u_h = u + a * t_h
+    if u_h > 0.0:
+        return max(0.0, u * t_h + 0.5 * a * t_h * t_h + u_h * u_h / (2.0 * d))
+    if u > 0.0:
+        return u * u / (-2.0 * a)
+    return 0.0
+
+
+def relative_disjoint(approach_m: float, range_m: float, params: CoreParams) -> bool:
+    """Disjoint behind a moving object: never closer, or ``approach + standoff <= range``."""
+    return approach_m <= 0.0 or approach_m + params.standoff_m <= range_m
+
+
+def moving_margin_m(closing_mps: float, params: CoreParams) -> float:
+    """Tightening's proximity margin (m) for a moving object at ``closing_mps``."""
+    scaled = closing_mps * params.proximity_time_s
+    return min(params.proximity_margin_m, max(params.proximity_margin_min_m, scaled))
+
+
+def is_moving(speed_mps: float, range_rate_mps: float, params: CoreParams) -> bool:
+    """The object's own speed ``v + range_rate`` exceeds ``moving_object_speed_mps`` (as in stopping_path)."""
+    return speed_mps + range_rate_mps > params.moving_object_speed_mps
+
+
+def moving_proximity(range_m: float, range_rate_mps: float, params: CoreParams) -> float:
+    """Tightening's proximity for a moving object: 0 when even full throttle would not close the gap.
+
+    ``m = range - standoff - approach(full throttle)``, ``p = clamp(1 - m / moving_margin_m, 0, 1)``.
+    """
+    approach = relative_approach_m(range_rate_mps, params.driver_max_accel_mps2, params)
+    if approach <= 0.0:
+        return 0.0
+    margin = range_m - params.standoff_m - approach
+    p = 1.0 - margin / moving_margin_m(max(0.0, -range_rate_mps), params)
+    return min(1.0, max(0.0, p))
