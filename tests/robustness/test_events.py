@@ -54,3 +54,13 @@ def test_expect_events_is_checked_at_load():
         scenario_from_dict({"checks": {"expect_events": ["ecu_lsot"]}})
     with pytest.raises(ConfigError, match="checks.expect_events: expected a list of event names"):
         scenario_from_dict({"checks": {"expect_events": "ecu_lost"}})
+
+
+def test_an_event_log_pickles_with_its_counts():
+    """Records travel back from Dask workers (crd matrix) pickled; the counts must survive."""
+    import pickle
+
+    log = EventLog([RunEvent(0.01 * i, "bus_error", "x") for i in range(30)])
+    back = pickle.loads(pickle.dumps(log))
+    assert isinstance(back, EventLog) and list(back) == list(log) and back.counts == {"bus_error": 30}
+    assert back.summaries() == log.summaries()
