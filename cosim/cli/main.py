@@ -28,7 +28,18 @@ SUBCOMMANDS: dict[str, str] = {
     "run": "cosim.cli.run",
     "paper": "cosim.cli.paper",
     "matrix": "cosim.cli.matrix",
+    "scenarios": "cosim.cli.scenarios",
+    "compare": "cosim.cli.compare",
 }
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return f"crd {version('crd')}"
+    except PackageNotFoundError:
+        return "crd (version unknown: not installed)"
 
 
 def _build_parser(argv: list[str]) -> argparse.ArgumentParser:
@@ -37,6 +48,7 @@ def _build_parser(argv: list[str]) -> argparse.ArgumentParser:
         description="Colliding reciprocal dance: FMI co-simulation and CAN active-safety ECU.",
     )
     parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
+    parser.add_argument("--version", action="version", version=_version())
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     wanted = next((a for a in argv if a in SUBCOMMANDS), None)
@@ -54,7 +66,22 @@ def _build_parser(argv: list[str]) -> argparse.ArgumentParser:
     return parser
 
 
+def _hide_unused_asammdf(argv: list[str]) -> None:
+    """Start without asammdf unless a ``.mf4`` file is named.
+
+    python-can imports asammdf (and with it pandas: about 1 s and 60 MB) on
+    ``import can`` whenever it is installed (the ``crd[mdf]`` extra), although
+    only MF4 files need it. Marking it absent before ``can`` is imported keeps
+    every other command, and each spawned ``crd ecu``, as quick to start as
+    without the extra. Only the ``crd`` command does this, never an in-process call.
+    """
+    if "can" not in sys.modules and not any(a.lower().endswith(".mf4") for a in argv):
+        sys.modules.setdefault("asammdf", None)
+
+
 def main(argv: list[str] | None = None) -> int:
+    if argv is None:
+        _hide_unused_asammdf(sys.argv[1:])
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = _build_parser(argv)
     args = parser.parse_args(argv)

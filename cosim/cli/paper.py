@@ -1,12 +1,13 @@
 """``crd paper [--scenario F] [--out DIR]``: the paper's experiment in one command.
 
 Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``,
-writes every run's outputs and ``speed_profiles.png``, prints a table and each
-claim of the paper with PASS or FAIL (:mod:`cosim.results.paper_claims`), and exits 3
-if any claim fails, 4 if a fault event occurred (``ecu_lost``, ``second_ecu``,
-``auth_failure``, ``ecu_security_fault``; printed as ``FAULT: ...``) that the
-scenario's ``[checks] expect_events`` does not list, 1 on an error (results so
-far written), 130/143 on SIGINT/SIGTERM (results so far written, ``metrics.json``
+writes every run's outputs, ``speed_profiles.png`` and ``report.md``, prints a
+table and each claim of the paper with PASS or FAIL
+(:mod:`cosim.results.paper_claims`), and exits 3 if any claim fails, 4 if a
+fault event occurred (``ecu_lost``, ``second_ecu``, ``auth_failure``,
+``ecu_security_fault``; printed as ``FAULT: ...``) that the scenario's
+``[checks] expect_events`` does not list, 1 on an error (results so far
+written), 130/143 on SIGINT/SIGTERM (results so far written, ``metrics.json``
 says ``interrupted``).
 """
 
@@ -17,12 +18,13 @@ import sys
 from pathlib import Path
 
 from ..loop.experiment import run_strategies
-from ..results.paper_claims import REQUIRED, evaluate
+from ..results.paper_claims import REQUIRED, evaluate, verdicts
 from ..scenarios.loader import load_scenario
 from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
 from .progress import end_progress, progress_printer, results_table
 from .signals import interruptible
 from ..results.events import EXIT_FAULT_EVENT, unexpected_faults
+from .scenarios import find_scenario
 
 PAPER_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper_cyclist.toml"
 EXIT_CLAIM_FAILED = 3
@@ -30,17 +32,19 @@ EXIT_CLAIM_FAILED = 3
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p = subparsers.add_parser("paper", help="reproduce the paper's three speed profiles and check its claims")
-    p.add_argument("--scenario", type=Path, default=PAPER_SCENARIO, help="scenario (default: paper_cyclist.toml)")
+    p.add_argument("--scenario", default=PAPER_SCENARIO,
+                   help="scenario file or bundled name (default: paper_cyclist.toml)")
     p.add_argument("--out", type=Path, default=Path("out/paper"), help="output directory (default out/paper)")
     add_ecu_arguments(p, realtime=False)
     p.set_defaults(func=interruptible(_do_paper))
 
 
 def _do_paper(args: argparse.Namespace) -> int:
-    scenario = load_scenario(args.scenario)
-    print(f"crd paper: {args.scenario.name}, strategies {', '.join(REQUIRED)} -> {args.out}", file=sys.stderr)
+    path = find_scenario(args.scenario)
+    scenario = load_scenario(path)
+    print(f"crd paper: {path.name}, strategies {', '.join(REQUIRED)} -> {args.out}", file=sys.stderr)
     records = run_strategies(scenario, list(REQUIRED), args.out, progress=progress_printer,
-                              ecu=ecu_options(args))
+                              ecu=ecu_options(args), judge=verdicts)
     end_progress()
     print(results_table(records))
     for line in timing_lines(records):
@@ -52,7 +56,7 @@ def _do_paper(args: argparse.Namespace) -> int:
     print()
     for claim in claims:
         print(f"[{'PASS' if claim.passed else 'FAIL'}] claim {claim.number}: {claim.text}\n        {claim.detail}")
-    print(f"\nspeed profiles: {args.out / 'speed_profiles.png'}")
+    print(f"\nspeed profiles: {args.out / 'speed_profiles.png'}; report: {args.out / 'report.md'}")
     faults = unexpected_faults(records, scenario.checks.expect_events)
     for line in faults:
         print(f"FAULT: {line}")

@@ -2,8 +2,13 @@
 
 :func:`resolve_fmu` gives the plant FMU's path (``builtin`` builds ours on
 first use via ``fmu_plant.build.ensure_fmu``); :func:`run_strategies` runs
-each strategy and writes everything under ``out_dir``; :func:`check_run`
-evaluates ``[checks]``.
+each strategy and writes everything under ``out_dir``, ``report.md`` last;
+:func:`check_verdicts` evaluates ``[checks]`` (:func:`check_run` lists the failed ones).
+
+Results survive (issue 15): ``out_dir`` is checked before anything runs, each
+run's time series and CAN logs are streamed (:class:`cosim.results.stream.RunStream`),
+and ``metrics.json`` (with each run's status) is written before the first
+run, after each, and on every way out, including SIGINT/SIGTERM.
 """
 
 from __future__ import annotations
@@ -16,11 +21,17 @@ from typing import Callable, Sequence
 from ..link.ecu_link import EcuOptions
 from ..errors import PlantError, RunInterrupted
 from .master import ClosedLoop, Progress, ecu_config
+from ..results import paper_claims
+from ..results.can_logs import check_can_logs
 from ..results.plots import speed_profiles, timeline
+from ..results.report import Verdict, fmt, write_report
 from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
 from ..results.run_record import RunRecord
 from ..scenarios.config import Scenario
+
+#: what a run is judged by in ``report.md``: (heading, verdicts) from the records
+Judge = Callable[[Sequence[RunRecord]], tuple[str, list[Verdict]]]
 
 log = logging.getLogger(__name__)
 
@@ -40,41 +51,60 @@ def resolve_fmu(scenario: Scenario) -> Path:
     return path
 
 
+def _check_one(scenario: Scenario, record: RunRecord) -> list[Verdict]:
+    c, m, out = scenario.checks, record.metrics, []
+    n = m.contingency_invocations
+    if record.error:
+        out.append(Verdict("run", False, f"run stopped on an error: {record.error}"))
+    if c.no_collision is not None:
+        out.append(Verdict("no_collision", c.no_collision != m.collided,
+                           f"no_collision: expected collided = {not c.no_collision}, got {m.collided}"))
+    if c.min_gap_m is not None:
+        out.append(Verdict("min_gap_m", m.min_gap_m is not None and m.min_gap_m >= c.min_gap_m,
+                           f"min_gap_m: expected >= {c.min_gap_m} m, got {fmt(m.min_gap_m, unit='m')}"))
+    if c.max_impact_speed_mps is not None:
+        out.append(Verdict("max_impact_speed_mps", not m.collided or m.impact_speed_mps <= c.max_impact_speed_mps,
+                           f"max_impact_speed_mps: expected <= {c.max_impact_speed_mps},"
+                           f" got {fmt(m.impact_speed_mps if m.collided else None)}"))
+    if c.min_contingency_invocations is not None:
+        out.append(Verdict("min_contingency_invocations", n >= c.min_contingency_invocations,
+                           f"min_contingency_invocations: expected >= {c.min_contingency_invocations}, got {n}"))
+    if c.max_contingency_invocations is not None:
+        out.append(Verdict("max_contingency_invocations", n <= c.max_contingency_invocations,
+                           f"max_contingency_invocations: expected <= {c.max_contingency_invocations}, got {n}"))
+    for kind in c.expect_events:
+        seen = any(e.kind == kind for e in record.events)
+        out.append(Verdict(f"expect_events {kind}", seen,
+                           f"expect_events: expected {kind}, " + ("it occurred" if seen else "which did not occur")))
+    return out
+
+
+def check_verdicts(scenario: Scenario, records: Sequence[RunRecord]) -> tuple[str, list[Verdict]]:
+    """Every ``[checks]`` expectation on every run, passed or not."""
+    return "Checks", [Verdict(f"{v.label} ({r.strategy})", v.passed, v.detail)
+                      for r in records for v in _check_one(scenario, r)]
+
+
 def check_run(scenario: Scenario, record: RunRecord) -> list[str]:
     """Failed ``[checks]`` expectations of one run, as messages (empty when all hold)."""
-    c, m, failed = scenario.checks, record.metrics, []
-    if record.error:
-        failed.append(f"run stopped on an error: {record.error}")
-    if c.no_collision is not None and c.no_collision == m.collided:
-        failed.append(f"no_collision: expected collided = {not c.no_collision}, got {m.collided}")
-    if c.min_gap_m is not None and (m.min_gap_m is None or m.min_gap_m < c.min_gap_m):
-        failed.append(f"min_gap_m: expected >= {c.min_gap_m} m, got {m.min_gap_m}")
-    if c.max_impact_speed_mps is not None and m.collided and m.impact_speed_mps > c.max_impact_speed_mps:
-        failed.append(f"max_impact_speed_mps: expected <= {c.max_impact_speed_mps}, got {m.impact_speed_mps:.3f}")
-    n = m.contingency_invocations
-    if c.min_contingency_invocations is not None and n < c.min_contingency_invocations:
-        failed.append(f"min_contingency_invocations: expected >= {c.min_contingency_invocations}, got {n}")
-    if c.max_contingency_invocations is not None and n > c.max_contingency_invocations:
-        failed.append(f"max_contingency_invocations: expected <= {c.max_contingency_invocations}, got {n}")
-    for kind in c.expect_events:
-        if not any(e.kind == kind for e in record.events):
-            failed.append(f"expect_events: expected {kind}, which did not occur")
-    return failed
+    return [v.detail for v in _check_one(scenario, record) if not v.passed]
 
 
 def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
-                   can_log_name: str = "can.blf",
+                   can_logs: Sequence[str] = (),
                    progress: Callable[[str], Progress] | None = None,
-                   ecu: EcuOptions | None = None) -> list[RunRecord]:
-    """Run each strategy; with ``out_dir``, write metrics, logs, time series, config and plots.
+                   ecu: EcuOptions | None = None, judge: Judge | None = None) -> list[RunRecord]:
+    """Run each strategy; with ``out_dir``, write metrics, logs, time series, config, plots and ``report.md``.
 
-    ``ecu`` says where the ECU runs (default: in process); see :mod:`cosim.link.ecu_link`.
-    With ``out_dir``: the directory is checked before anything runs; each run's time series
-    and CAN log are streamed (:class:`cosim.results.stream.RunStream`); ``metrics.json``
-    (with each run's status) is written before the first run, after each, and on every
-    way out. A run ended by SIGINT/SIGTERM stops the series: its results are written, then
+    With ``out_dir``: the directory is checked before anything runs, the files are written
+    as the run goes, and ``metrics.json`` on every way out (module docstring). A run ended
+    by SIGINT/SIGTERM stops the series: its results are written, then
     :class:`~cosim.errors.RunInterrupted` is raised on.
+    ``can_logs``: CAN log files besides ``can.blf`` (checked before any run);
+    ``ecu`` says where the ECU runs (default: in process; see :mod:`cosim.link.ecu_link`);
+    ``judge`` gives the report's verdicts (default: the scenario's ``[checks]``).
     """
+    logs = check_can_logs(can_logs)
     if out_dir is not None:
         check_out_dir(out_dir, strategies)
     fmu_path = resolve_fmu(scenario)
@@ -87,7 +117,7 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
             out_dir.mkdir(parents=True, exist_ok=True)
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
         for strategy in strategies:
-            record = _run_one(scenario, fmu_path, strategy, out_dir, can_log_name, progress, ecu)
+            record = _run_one(scenario, fmu_path, strategy, out_dir, logs, progress, ecu)
             records.append(record)
             if record.interrupted:
                 break
@@ -103,7 +133,8 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
         raise
     finally:
         if out_dir is not None:
-            _write_summary(out_dir, scenario, strategies, records, status, error)
+            _write_summary(out_dir, scenario, records, judge or (lambda recs: check_verdicts(scenario, recs)),
+                           status, error)
     if status == "interrupted":
         raise _interrupted(records[-1], out_dir)
     return records
@@ -116,11 +147,11 @@ def _interrupted(record: RunRecord, out_dir: Path | None) -> RunInterrupted:
                           f"{record.interrupted} at t = {record.metrics.sim_time_s:.2f} s{where}")
 
 
-def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | None, can_log_name: str,
+def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | None, logs: Sequence[str],
              progress: Callable[[str], Progress] | None, ecu: EcuOptions | None) -> RunRecord:
     """One strategy's run, its files streamed under ``out_dir/<strategy>/`` as it goes."""
     show = progress(strategy) if progress else None
-    stream = RunStream(out_dir / strategy, can_log_name) if out_dir is not None else None
+    stream = RunStream(out_dir / strategy, logs, scenario.scenario.start_datetime) if out_dir is not None else None
     loop: ClosedLoop | None = None
     try:
         loop = ClosedLoop(scenario, fmu_path, strategy, ecu=ecu)
@@ -143,17 +174,34 @@ def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | 
     return record
 
 
-def _write_summary(out_dir: Path, scenario: Scenario, strategies: Sequence[str], records: list[RunRecord],
-                   status: str, error: str | None) -> None:
-    """``metrics.json`` first (the one file every way out must leave), then the config and the plot."""
+def _write_summary(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, status: str,
+                   error: str | None) -> None:
+    """``metrics.json`` first (the one file every way out must leave), then the config, plots and report."""
     prov = provenance(scenario, records)
     write_metrics(out_dir / "metrics.json", records, prov, status, error)
+    if not records:
+        return
     try:
-        write_resolved_config(out_dir / "config.resolved.toml", scenario, ecu_config(scenario, strategies[0]), prov)
-        if records:
-            obj = scenario.object
-            speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None)
+        _write_report(out_dir, scenario, records, judge, prov)
     except Exception as exc:  # noqa: BLE001 - on the way out of a failed run, never mask its error
         if status == "complete":
             raise
         log.warning("could not write the summary files after the run stopped (%s): %s", status, exc)
+
+
+def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, prov: dict) -> None:
+    """``config.resolved.toml``, ``speed_profiles.png`` and ``report.md`` (with the judge's verdicts)."""
+    resolved = out_dir / "config.resolved.toml"
+    write_resolved_config(resolved, scenario, ecu_config(scenario, records[0].strategy), prov)
+    obj = scenario.object
+    paper = set(paper_claims.REQUIRED) <= {r.strategy for r in records}
+    speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None,
+                   split_m=paper_claims.SPLIT_POSITION_M if paper else None)
+    plots = [("speed against position", "speed_profiles.png")]
+    plots += [(f"{r.strategy}: timeline", f"{r.strategy}/timeline.png") for r in records]
+    try:
+        verdicts = judge(records)
+    except (KeyError, ValueError) as exc:  # e.g. a run that stopped on an error before its first sample
+        verdicts = ("Verdicts", [Verdict("evaluation", False, f"could not be evaluated: {exc}")])
+    title = f"crd report: {scenario.scenario.name} ({', '.join(r.strategy for r in records)})"
+    write_report(out_dir / "report.md", title, records, verdicts, plots, resolved.read_text())

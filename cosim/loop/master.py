@@ -64,7 +64,7 @@ from ..link.ecu_link import EcuOptions, open_link
 from ..errors import EcuStallError, FmiStepError, interrupt_signal, signal_name
 from ..world.gateway import Actuation, Gateway
 from ..world.plant import finite_check, open_plant
-from ..world.plant_fmu import PlantSample
+from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, PlantSample
 from ..world.radar_model import RadarModel
 from ..results.events import merge_events
 from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
@@ -119,6 +119,9 @@ class ClosedLoop:
         self.plant = open_plant(scenario.plant, fmu_path)
         self._check_sample = finite_check(scenario.plant)  # NaN/Inf output: an error naming time and variable
         self.record.fmu_path, self.record.fmu_sha256 = str(fmu_path), self.plant.sha256
+        if not self.plant.wheel_speeds_mapped:
+            self.record.events.append(RunEvent(0.0, "warning", DERIVED_WHEEL_SPEEDS))
+            log.warning("%s: %s", self.strategy, DERIVED_WHEEL_SPEEDS)
         self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
         try:
             self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S)

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .report import Verdict, fmt
 from .run_record import RunRecord
 
 REQUIRED = ("none", "conservative", "tightening")
@@ -103,16 +104,23 @@ def evaluate(records: list[RunRecord]) -> list[Claim]:
     inv = {s: by[s].metrics.contingency_invocations for s in REQUIRED}
     return [
         Claim("1", "none collides with the cyclist", none.collided,
-              f"collided={none.collided}, impact {none.impact_speed_mps} m/s"),
+              f"collided={none.collided}, impact {fmt(none.impact_speed_mps, unit='m/s')}"),
         Claim("2", "conservative and tightening stop short of the cyclist",
               not cons.collided and not tight.collided,
-              f"conservative collided={cons.collided}, final gap {cons.final_gap_m}; "
-              f"tightening collided={tight.collided}, final gap {tight.final_gap_m}"),
+              f"conservative collided={cons.collided}, final gap {fmt(cons.final_gap_m, unit='m')}; "
+              f"tightening collided={tight.collided}, final gap {fmt(tight.final_gap_m, unit='m')}"),
         Claim("3", f"none and conservative dance: >= {DANCE_MIN_INVOCATIONS} contingency invocations each",
               inv["none"] >= DANCE_MIN_INVOCATIONS and inv["conservative"] >= DANCE_MIN_INVOCATIONS,
               f"invocations: none {inv['none']}, conservative {inv['conservative']} (tightening {inv['tightening']})"),
         _claim4(by["conservative"], by["tightening"]),
         Claim("5", "tightening ends farther from the cyclist than conservative",
               cons.final_gap_m is not None and tight.final_gap_m is not None and tight.final_gap_m > cons.final_gap_m,
-              f"final gap: tightening {tight.final_gap_m}, conservative {cons.final_gap_m}"),
+              f"final gap: tightening {fmt(tight.final_gap_m, unit='m')},"
+              f" conservative {fmt(cons.final_gap_m, unit='m')}"),
     ]
+
+
+def verdicts(records: list[RunRecord]) -> tuple[str, list[Verdict]]:
+    """The claims for ``report.md``."""
+    return "The paper's claims", [Verdict(f"claim {c.number}: {c.text}", c.passed, c.detail)
+                                  for c in evaluate(records)]

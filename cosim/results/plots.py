@@ -1,64 +1,198 @@
-"""PNG plots with matplotlib's Agg backend (no display needed).
+"""PNG plots with matplotlib's Agg backend (no display needed), imported only when plotting.
 
 * ``speed_profiles.png``: the paper's figure — speed against position, one
-  line per strategy, the object's position marked;
-* ``<strategy>/timeline.png``: speed, gap, applied throttle/brake and ECU mode over time.
+  line per strategy, the object marked, a collision marked where one
+  happened — over the whole path and, below, zoomed on the last 75 m before
+  the object, where the strategies differ (claim 4's split at 200 m marked);
+* ``<strategy>/timeline.png``: speed, gap, applied throttle/brake and ECU mode
+  over time, trimmed to the active part of the run (the rest is stated, not
+  drawn) with the collision marked;
+* :func:`overlay_profiles`: two runs' speed profiles on one figure (``crd compare``).
+
+Legends sit outside the axes, so they cover no data.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable
+from typing import Sequence
 
-import matplotlib
+from .run_record import RunRecord
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402 - the backend must be chosen first
-
-from .run_record import RunRecord  # noqa: E402
-
+STRATEGY_COLORS = {"none": "C0", "conservative": "C1", "tightening": "C2", "adaptive": "C4"}  # in every plot
 _MODE_LEVEL = {"STANDBY": 0, "TIGHTENING": 1, "CONTINGENCY": 2, "FAULT": 3, "NO_OVERRIDE": -1}
+ZOOM_SPAN_M = 75.0  # the zoomed panel: this far before the object (150..225 m in the paper)
+_COLLISION = dict(color="crimson", marker="X", markersize=10, linestyle="none", zorder=5)
+# Fixed margins (fractions of the figure) leave the right-hand strip to the legends; a layout
+# engine would find them too, at about half of the plotting time.
+_RIGHT = 0.75
 
 
-def speed_profiles(path: Path, records: Iterable[RunRecord], object_position_m: float | None) -> None:
-    """Speed (m/s) against position (m), one line per strategy (Johnson 2019, Fig. 2)."""
-    fig, ax = plt.subplots(figsize=(8, 4.5), dpi=110)
-    for r in records:
-        label = r.strategy + (" (collided)" if r.metrics.collided else "")
-        ax.plot(r.column("position_m"), r.column("speed_mps"), label=label, linewidth=1.2)
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+@dataclass(frozen=True)
+class Collision:
+    """Where and when a run hit the object: time (s), position (m), speed (m/s)."""
+
+    t_s: float
+    position_m: float
+    speed_mps: float
+
+
+def collision_point(record: RunRecord) -> Collision | None:
+    """The collision, extrapolated from the last 10 ms sample to the collision event's time."""
+    t_c = next((e.t_s for e in record.events if e.kind == "collision"), None)
+    if t_c is None or not record.rows:
+        return None
+    t, x, v, a = (record.rows[-1][i] for i in range(4))
+    dt = max(0.0, t_c - t)
+    return Collision(t_c, x + v * dt + 0.5 * a * dt * dt, max(0.0, v + a * dt))
+
+
+@dataclass(frozen=True)
+class Profile:
+    """One line of a speed-profile plot."""
+
+    label: str
+    record: RunRecord
+    linestyle: str = "-"
+    color: str | None = None
+
+
+def _draw_profiles(ax, profiles: Sequence[Profile], object_position_m: float | None) -> None:
+    for p in profiles:
+        color = p.color or STRATEGY_COLORS.get(p.record.strategy)
+        ax.plot(p.record.column("position_m"), p.record.column("speed_mps"), p.linestyle, color=color,
+                label=p.label, linewidth=1.3)
+        hit = collision_point(p.record)
+        if hit is not None:
+            ax.plot([hit.position_m], [hit.speed_mps], **_COLLISION,
+                    label=f"{p.label}: collision at {hit.speed_mps:.2f} m/s")
     if object_position_m is not None:
-        ax.axvline(object_position_m, color="k", linestyle="--", linewidth=1)
-        ax.annotate("cyclist", (object_position_m, 0), xytext=(-50, 10), textcoords="offset points")
-    ax.set_xlabel("position (m)")
+        ax.axvline(object_position_m, color="k", linestyle="--", linewidth=1, label="object")
     ax.set_ylabel("speed (m/s)")
-    ax.set_title("Vehicle speed as a function of path position")
     ax.grid(True, alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
+
+
+def _zoom(ax, profiles: Sequence[Profile], lo_m: float, hi_m: float) -> None:
+    speeds = [v for p in profiles for x, v in zip(p.record.column("position_m"), p.record.column("speed_mps"))
+              if lo_m <= x <= hi_m]
+    ax.set_xlim(lo_m, hi_m)
+    if speeds:
+        ax.set_ylim(-0.5, max(speeds) * 1.05 + 0.5)
+
+
+def _save(fig, path: Path) -> None:
     fig.savefig(path)
-    plt.close(fig)
+    _pyplot().close(fig)
+
+
+def profile_figure(profiles: Sequence[Profile], object_position_m: float | None,
+                   title: str, split_m: float | None = None):
+    """Speed against position; with an object, a second panel zoomed on the last ``ZOOM_SPAN_M`` before it."""
+    plt = _pyplot()
+    zoom = object_position_m is not None
+    fig, axes = plt.subplots(2 if zoom else 1, 1, figsize=(10.5, 7.5 if zoom else 4.5), dpi=110, squeeze=False)
+    top = 0.95 if zoom else 0.91
+    fig.subplots_adjust(left=0.07, right=_RIGHT, top=top, bottom=0.08 if zoom else 0.12, hspace=0.25)
+    full = axes[0][0]
+    _draw_profiles(full, profiles, object_position_m)
+    full.set_title(title)
+    if zoom:
+        near = axes[1][0]
+        _draw_profiles(near, profiles, object_position_m)
+        lo = max(0.0, object_position_m - ZOOM_SPAN_M)
+        _zoom(near, profiles, lo, object_position_m + 2.0)
+        full.axvspan(lo, object_position_m + 2.0, color="0.85", alpha=0.4, label="zoomed below")
+        if split_m is not None and lo < split_m < object_position_m:
+            near.axvline(split_m, color="0.4", linestyle=":", linewidth=1.2, label=f"claim 4 split ({split_m:g} m)")
+        near.set_title(f"zoom: {lo:g}–{object_position_m + 2.0:g} m")
+    axes[-1][0].set_xlabel("position (m)")
+    entries = {}  # one legend entry per label, over both panels
+    for ax in fig.axes:
+        entries.update({lab: h for h, lab in zip(*ax.get_legend_handles_labels()) if lab not in entries})
+    fig.legend(list(entries.values()), list(entries), loc="upper left", bbox_to_anchor=(_RIGHT + 0.01, top),
+               fontsize=9, borderaxespad=0.0)
+    return fig
+
+
+def speed_profiles(path: Path, records: Sequence[RunRecord], object_position_m: float | None,
+                   split_m: float | None = None) -> None:
+    """Speed (m/s) against position (m), one line per strategy (Johnson 2019, Fig. 2)."""
+    profiles = [Profile(r.strategy, r) for r in records]
+    _save(profile_figure(profiles, object_position_m, "Vehicle speed as a function of path position", split_m), path)
+
+
+def overlay_profiles(path: Path, runs: Sequence[tuple[str, Sequence[RunRecord]]],
+                     object_position_m: float | None, title: str) -> None:
+    """Two (or more) runs' speed profiles: one colour per strategy, one line style per run."""
+    styles = ("-", "--", ":", "-.")
+    profiles = [Profile(f"{name}: {r.strategy}", r, styles[i % len(styles)])
+                for i, (name, records) in enumerate(runs) for r in records]
+    _save(profile_figure(profiles, object_position_m, title), path)
+
+
+
+def active_end_s(record: RunRecord) -> float:
+    """Time (s) of the last sample that differs from the final one (speed or gap by >= 0.01, a command, the mode)."""
+    rows = record.rows
+    if not rows:
+        return 0.0
+    last = rows[-1]
+    for row in reversed(rows):
+        t, _, v, _, throttle, brake, mode, gap, acc, brk = row
+        if (abs(v - last[2]) >= 0.01 or abs(gap - last[7]) >= 0.01 or mode != last[6]
+                or (throttle, brake, acc, brk) != (last[4], last[5], last[8], last[9])):
+            return t
+    return rows[0][0]
 
 
 def timeline(path: Path, record: RunRecord) -> None:
-    """Speed, gap, pedals/commands and ECU mode against time for one run."""
+    """``timeline.png`` of one run (:func:`timeline_figure`)."""
+    _save(timeline_figure(record), path)
+
+
+def timeline_figure(record: RunRecord):
+    """Speed, gap, pedals/commands and ECU mode against time for one run, trimmed to its active part."""
+    plt = _pyplot()
     t = record.column("time_s")
-    fig, axes = plt.subplots(4, 1, figsize=(8, 8), dpi=100, sharex=True)
-    axes[0].plot(t, record.column("speed_mps"))
+    end_s = t[-1] if t else 0.0
+    shown_s = min(end_s, active_end_s(record) + 2.0)
+    fig, axes = plt.subplots(4, 1, figsize=(10, 8), dpi=100, sharex=True)
+    fig.subplots_adjust(left=0.13, right=_RIGHT, top=0.95, bottom=0.07, hspace=0.12)
+    axes[0].plot(t, record.column("speed_mps"), label="speed")
     axes[0].set_ylabel("speed (m/s)")
     gaps = [g if g < 1e9 else float("nan") for g in record.column("gap_m")]
-    axes[1].plot(t, gaps)
+    axes[1].plot(t, gaps, label="gap to object")
     axes[1].set_ylabel("gap (m)")
-    axes[2].plot(t, record.column("throttle"), label="throttle")
-    axes[2].plot(t, record.column("brake"), label="brake")
-    axes[2].plot(t, [p / 100 for p in record.column("accel_pedal_pct")], ":", label="accel pedal")
+    if all(g != g for g in gaps):  # all NaN: nothing in the lane
+        axes[1].text(0.5, 0.5, "no object in the lane", transform=axes[1].transAxes, ha="center", va="center")
+    axes[2].plot(t, record.column("throttle"), label="throttle applied")
+    axes[2].plot(t, record.column("brake"), label="brake applied")
+    axes[2].plot(t, [p / 100 for p in record.column("accel_pedal_pct")], ":", label="accelerator pedal")
     axes[2].set_ylabel("command (0..1)")
-    axes[2].legend(loc="upper right")
-    axes[3].step(t, [_MODE_LEVEL.get(m, -2) for m in record.column("ecu_mode")], where="post")
+    axes[3].step(t, [_MODE_LEVEL.get(m, -2) for m in record.column("ecu_mode")], where="post", label="ECU mode")
     axes[3].set_yticks(list(_MODE_LEVEL.values()), list(_MODE_LEVEL))
-    axes[3].set_xlabel("time (s)")
-    axes[0].set_title(f"{record.strategy}")
+    hit = collision_point(record)
+    if hit is not None:
+        for ax in axes:
+            ax.axvline(hit.t_s, color="crimson", linewidth=1.2, linestyle="--")
+        axes[0].plot([hit.t_s], [hit.speed_mps], **_COLLISION,
+                     label=f"collision at {hit.t_s:.2f} s, {hit.speed_mps:.2f} m/s")
+    axes[0].set_title(record.strategy)
+    axes[-1].set_xlim(0.0, max(shown_s, 0.1) * 1.02)  # a margin, so a collision at the end shows
+    note = f"; constant from {shown_s - 2.0:.1f} s to the end ({end_s:.1f} s), not shown" if shown_s < end_s else ""
+    axes[-1].set_xlabel("time (s)" + note)
     for ax in axes:
         ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+        if len(ax.get_legend_handles_labels()[1]) > 1:  # a single line is named by its y label
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9, borderaxespad=0.0)
+    return fig

@@ -2,8 +2,9 @@
 
 * ``metrics.json``: ``{"runs": [...], "provenance": {...}}``;
 * ``<strategy>/timeseries.csv``: one row per 10 ms ECU cycle;
-* ``<strategy>/can.blf`` (or the suffix given): every bus frame with its
-  simulation time stamp, through python-can's loggers (format from the suffix);
+* ``<strategy>/can.blf`` and any further ``--can-log`` files (BLF, ASC, MF4, ...):
+  every bus frame, stamped with the run's start time plus its simulation time
+  (:mod:`cosim.results.can_logs`);
 * ``<strategy>/events.json``: gateway fallbacks, collision, FMI error;
 * ``config.resolved.toml``: every resolved value, loadable by ``crd run``;
   its header and ``metrics.json`` carry the FMU's sha256, the package version
@@ -18,12 +19,12 @@ import math
 import os
 import tempfile
 from dataclasses import fields
+from datetime import datetime
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Iterable
+from typing import Iterable, Sequence
 
-import can
-
+from .can_logs import DEFAULT_CAN_LOG, write_can_logs
 from .events import event_counts
 from .run_record import TIMESERIES_COLUMNS, RunRecord
 from ..scenarios.config import Scenario
@@ -104,14 +105,6 @@ def write_timeseries(path: Path, record: RunRecord) -> None:
             writer.writerow(timeseries_cells(row))
 
 
-def write_can_log(path: Path, record: RunRecord) -> None:
-    """All frames through ``can.Logger`` (the writer class chosen by the file suffix)."""
-    with can.Logger(str(path)) as logger:
-        for f in record.frames:
-            logger.on_message_received(can.Message(timestamp=f.t_s, arbitration_id=f.arbitration_id,
-                                                   data=f.data, is_extended_id=False, channel=0))
-
-
 def write_events(path: Path, record: RunRecord) -> None:
     events = [{"t_s": e.t_s, "kind": e.kind, "detail": e.detail} for e in record.events]
     path.write_text(json.dumps({"events": events, "error": record.error}, indent=2) + "\n")
@@ -130,11 +123,15 @@ def write_resolved_config(path: Path, scenario: Scenario, ecu_config, prov: dict
     path.write_text(dumps(data, header=header))
 
 
-def write_run(out_dir: Path, record: RunRecord, can_log_name: str = "can.blf") -> Path:
-    """Write one strategy's files under ``out_dir/<strategy>/``; returns that directory."""
+def write_run(out_dir: Path, record: RunRecord, start: datetime,
+              can_logs: Sequence[str] = (DEFAULT_CAN_LOG,)) -> Path:
+    """Write one strategy's files under ``out_dir/<strategy>/``; returns that directory.
+
+    ``start`` is the absolute time of t = 0 (``[scenario] start_time``) for the CAN logs.
+    """
     run_dir = out_dir / record.strategy
     run_dir.mkdir(parents=True, exist_ok=True)
     write_timeseries(run_dir / "timeseries.csv", record)
-    write_can_log(run_dir / can_log_name, record)
+    write_can_logs(run_dir, record, can_logs, start)
     write_events(run_dir / "events.json", record)
     return run_dir

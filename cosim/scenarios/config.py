@@ -8,12 +8,16 @@ Every field carries its unit in its name and its allowed range in
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from datetime import datetime
 from types import MappingProxyType
 from typing import Mapping
 
 STRATEGIES = ("none", "conservative", "tightening")
 ECU_CYCLE_S = 0.01  # the contract's SafetyOverride / DriverInput cycle (DBC GenMsgCycleTime 10 ms)
 OBJECT_TRACK_PERIOD_S = 0.05  # the contract's ObjectTrack cycle (DBC GenMsgCycleTime 50 ms)
+#: ``[scenario] start_time`` default: the start of 2020, UTC. A fixed date keeps the logs'
+#: headers deterministic; any date from 1990 on works (BLF treats earlier ones as unset).
+DEFAULT_START_TIME = "2020-01-01T00:00:00+00:00"
 
 
 def _r(lo: float, hi: float) -> dict:
@@ -26,12 +30,22 @@ def _c(*choices: object) -> dict:
 
 @dataclass(frozen=True)
 class ScenarioSection:
-    """``[scenario]``: name, simulated duration (s), plant step (s), seed."""
+    """``[scenario]``: name, simulated duration (s), plant step (s), seed, start time.
+
+    ``start_time`` is the absolute time of t = 0 (ISO 8601 with a UTC offset, or a
+    TOML offset date-time); the CAN logs' headers carry it (:mod:`cosim.results.can_logs`).
+    """
 
     name: str = "scenario"
     duration_s: float = field(default=30.0, metadata=_r(0.01, 3600.0))
     step_s: float = field(default=0.001, metadata=_r(1e-4, ECU_CYCLE_S))
     seed: int = field(default=0, metadata=_r(0, 2**63 - 1))
+    start_time: str = field(default=DEFAULT_START_TIME, metadata={"datetime": True})
+
+    @property
+    def start_datetime(self) -> datetime:
+        """``start_time`` as an aware :class:`datetime.datetime`."""
+        return datetime.fromisoformat(self.start_time)
 
 
 @dataclass(frozen=True)

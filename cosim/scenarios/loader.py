@@ -10,6 +10,7 @@ against each field's ``metadata``. ``[ecu]`` parameters other than
 from __future__ import annotations
 
 import dataclasses
+import datetime as dt
 import difflib
 import math
 import tomllib
@@ -87,7 +88,29 @@ def _base_type(hint: Any) -> type:
     return args[0] if args else hint
 
 
+_EARLIEST_START = dt.datetime(1990, 1, 1, tzinfo=dt.timezone.utc)  # BLF headers treat earlier dates as unset
+
+
+def _start_time(value: Any, where: str) -> str:
+    """An offset date-time (TOML or ISO 8601 text) as normalised ISO 8601 text."""
+    expected = "expected an ISO 8601 date-time with a UTC offset such as 2020-01-01T00:00:00Z"
+    if isinstance(value, str):
+        try:
+            value = dt.datetime.fromisoformat(value)
+        except ValueError:
+            raise ConfigError(f"{where}: {expected}, got {value!r}") from None
+    if not isinstance(value, dt.datetime) or value.tzinfo is None:
+        shown = value.isoformat() if isinstance(value, (dt.date, dt.time)) else repr(value)
+        raise ConfigError(f"{where}: {expected}, got {shown} (no offset)" if isinstance(value, dt.datetime)
+                          else f"{where}: {expected}, got {shown}")
+    if not _EARLIEST_START <= value < dt.datetime(2100, 1, 1, tzinfo=dt.timezone.utc):
+        raise ConfigError(f"{where}: expected a date from 1990 to 2099, got {value.isoformat()}")
+    return value.isoformat()
+
+
 def _plain_field(f: dataclasses.Field, hint: Any, value: Any, where: str) -> Any:
+    if f.metadata.get("datetime"):
+        return _start_time(value, where)
     value = _coerce(value, _base_type(hint), where)
     if "range" in f.metadata:
         lo, hi = f.metadata["range"]

@@ -27,6 +27,7 @@ class Plant(Protocol):
     sha256: str
     fmi_version: int
     fixed_internal_step_s: float | None
+    wheel_speeds_mapped: bool  # False: every wheel speed is the vehicle speed (no ABS slip visible)
 
     def set_actuation(self, throttle: float, brake: float) -> None: ...
 

@@ -34,6 +34,10 @@ from ..scenarios.config import PlantConfig, SignalMap
 log = logging.getLogger(__name__)
 
 _STATUS = ("OK", "Warning", "Discard", "Error", "Fatal", "Pending")
+#: the run's warning when ``wheel_speeds_mapped`` is False
+DERIVED_WHEEL_SPEEDS = ("plant.outputs.wheel_speeds is not mapped: every wheel speed is the vehicle speed,"
+                        " so ABS wheel slip is invisible to the ECU (its speed estimate and the result can"
+                        " differ from a plant with wheel outputs)")
 _REAL_TYPES = ("Real", "Float64", "Float32")
 
 
@@ -132,6 +136,7 @@ class FmuPlant:
             conv[m.role] = [(i + j, m.scale, m.offset) for j in range(len(m.names))]
             i += len(m.names)
         radius = cfg.wheel_radius_m
+        self.wheel_speeds_mapped = "wheel_speeds" in conv  # False: derived from the speed (no ABS slip)
         wheels = [(j, s * radius, o * radius) for j, s, o in conv["wheel_speeds"]] if "wheel_speeds" in conv \
             else conv["speed"]  # fewer than 4 names: repeated in order; none: the speed on every wheel
         self._read_conv = (conv["position"][0], conv["speed"][0], conv["accel"][0] if "accel" in conv else None,

@@ -120,6 +120,7 @@ class IsolatedPlant:
             raise PlantError(f"plant FMU not found: expected a file at {self.path}")
         self.sha256 = file_sha256(self.path)
         self.step_timeout_s = step_timeout_s
+        self.wheel_speeds_mapped = cfg.output_map("wheel_speeds") is not None  # as FmuPlant reports it
         self._throttle = self._brake = 0.0
         ours, theirs = socket.socketpair()
         with theirs:

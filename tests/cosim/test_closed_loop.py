@@ -3,6 +3,7 @@
 import json
 import subprocess
 import sys
+from datetime import datetime
 from pathlib import Path
 
 import can
@@ -14,6 +15,7 @@ from cosim.cli.main import main as crd
 from cosim.cli.paper import PAPER_SCENARIO
 from cosim.loop.experiment import run_strategies
 from cosim.loop.master import run_scenario
+from cosim.scenarios.config import DEFAULT_START_TIME
 from cosim.scenarios.loader import load_scenario, scenario_from_dict
 
 SHORT = {"scenario": {"duration_s": 7.0, "seed": 3},
@@ -82,7 +84,9 @@ def test_can_log_readable_and_decodable(tmp_path, suffix):
     msgs = list(can.LogReader(str(log)))
     ids = {m.arbitration_id for m in msgs}
     assert {0x090, 0x0A0, 0x0B0, 0x0C0, 0x3A0} <= ids
-    assert msgs[0].timestamp == pytest.approx(0.0) and msgs[-1].timestamp == pytest.approx(0.99)
+    # BLF readers add the header's start time (the scenario's start_time); ASC readers give the offsets
+    t0 = datetime.fromisoformat(DEFAULT_START_TIME).timestamp() if suffix == ".blf" else 0.0
+    assert msgs[0].timestamp - t0 == pytest.approx(0.0) and msgs[-1].timestamp - t0 == pytest.approx(0.99)
     assert sum(m.arbitration_id == 0x0C0 for m in msgs) == 20  # ObjectTrack every 50 ms
     db = cantools.database.load_file(str(DBC_PATH))
     decoded = db.decode_message(0x0C0, bytes(next(m for m in msgs if m.arbitration_id == 0x0C0).data))

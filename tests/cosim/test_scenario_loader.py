@@ -57,3 +57,26 @@ def test_paper_scenario_loads_and_resolved_round_trips():
     assert sc.object.position_m == 225.0 and sc.driver.model == "full_throttle"
     again = scenario_from_dict(tomllib.loads(scenario_to_toml(sc)))
     assert again == sc
+
+
+def test_start_time_default_and_offset_datetimes():
+    default = scenario_from_dict({}).scenario
+    assert default.start_time == "2020-01-01T00:00:00+00:00" and default.start_datetime.year == 2020
+    toml = tomllib.loads("[scenario]\nstart_time = 2024-05-01T08:30:00+02:00\n")
+    sc = scenario_from_dict(toml)
+    assert sc.scenario.start_time == "2024-05-01T08:30:00+02:00"
+    assert scenario_from_dict({"scenario": {"start_time": "2024-05-01T06:30:00Z"}}).scenario.start_datetime \
+        == sc.scenario.start_datetime
+    assert scenario_from_dict(tomllib.loads(scenario_to_toml(sc))) == sc  # the resolved file repeats it
+
+
+@pytest.mark.parametrize("toml, fragment", [
+    ("start_time = 2024-05-01T08:30:00", "got 2024-05-01T08:30:00 (no offset)"),
+    ("start_time = 1970-01-01T00:00:00Z", "expected a date from 1990 to 2099, got 1970-01-01T00:00:00+00:00"),
+    ('start_time = "yesterday"', "got 'yesterday'"),
+    ("start_time = 5", "got 5"),
+])
+def test_bad_start_time_names_the_key(toml, fragment):
+    with pytest.raises(ConfigError) as err:
+        scenario_from_dict(tomllib.loads("[scenario]\n" + toml + "\n"))
+    assert str(err.value).startswith("scenario.start_time: expected") and fragment in str(err.value)

@@ -1,0 +1,137 @@
+"""A run's CAN frames as measurement files: BLF, ASC, TRC, candump ``.log``, CSV and MF4.
+
+Every file starts at the scenario's ``[scenario] start_time`` (a fixed,
+documented date by default, so the files are the same from run to run) and
+stamps each frame with that start time plus its simulation time:
+
+* python-can's writers (chosen by suffix) get absolute time stamps, so the BLF
+  header's start time, the TRC ``$STARTTIME`` and the candump/CSV stamps are
+  the run's start; the BLF offsets and the ASC times are the simulation time.
+  The ASC ``date``/``Begin Triggerblock`` lines are the start time in its own
+  UTC offset (python-can writes the wall clock of the moment it opened the
+  file there);
+* MF4 (ASAM MDF 4.10) is written with asammdf, an optional extra
+  (``pip install 'crd[mdf]'``), in the ASAM bus-logging layout (one
+  ``CAN_DataFrame`` channel group from a CAN bus source) that asammdf's
+  ``extract_bus_logging`` decodes with the DBC. Its time axis is the
+  simulation time (starting at 0) and its header's start time is the run's.
+
+:func:`check_can_logs` rejects an unknown suffix or a missing extra before a
+run starts, so a long run never ends in an error about its log file.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from datetime import datetime
+from pathlib import Path, PurePath
+from typing import Iterable, Sequence
+
+import can
+
+from ..errors import ConfigError
+from .run_record import RunRecord
+
+#: suffix -> what writes it (python-can chooses its writer by the same suffix)
+LOG_FORMATS = {
+    ".blf": "Vector BLF (python-can)",
+    ".asc": "Vector ASC (python-can)",
+    ".trc": "PEAK TRC (python-can)",
+    ".log": "candump log (python-can)",
+    ".csv": "CSV (python-can)",
+    ".mf4": "ASAM MDF 4.10 bus logging (asammdf, extra crd[mdf])",
+}
+DEFAULT_CAN_LOG = "can.blf"
+
+
+def check_can_logs(names: Iterable[str]) -> tuple[str, ...]:
+    """The default log plus ``names``, each checked; raises :class:`ConfigError` naming the option."""
+    logs = [DEFAULT_CAN_LOG]
+    names = (names,) if isinstance(names, str) else names  # one name, not its characters
+    for name in names:
+        suffix = PurePath(name).suffix.lower()
+        if PurePath(name).name != name or not PurePath(name).stem:
+            raise ConfigError(f"--can-log: expected a file name (written in each strategy's directory), got {name!r}")
+        if suffix not in LOG_FORMATS:
+            raise ConfigError(f"--can-log {name}: expected a suffix in {sorted(LOG_FORMATS)}, got {suffix or 'none'!r}")
+        if suffix == ".mf4" and importlib.util.find_spec("asammdf") is None:
+            raise ConfigError(f"--can-log {name}: MF4 needs asammdf, which is not installed;"
+                              " install the extra: pip install 'crd[mdf]'")
+        if name not in logs:
+            logs.append(name)
+    return tuple(logs)
+
+
+class _DatedASCWriter(can.ASCWriter):
+    """python-can's ASC writer with the run's start date in its header instead of the wall clock."""
+
+    def __init__(self, path: Path, start: datetime) -> None:
+        self._start = start  # set first: the base class writes the header in __init__
+        super().__init__(str(path))
+
+    def _format_header_datetime(self, dt: datetime) -> str:  # noqa: ARG002 - always the run's start
+        return super()._format_header_datetime(self._start)
+
+
+def _messages(record: RunRecord, start_s: float) -> Iterable[can.Message]:
+    for f in record.frames:
+        yield can.Message(timestamp=start_s + f.t_s, arbitration_id=f.arbitration_id, data=f.data,
+                          is_extended_id=False, channel=0)
+
+
+def open_python_can_writer(path: Path, start: datetime) -> can.io.generic.MessageWriter:
+    """python-can's writer for ``path``'s suffix (ASC dated with ``start``); frames then take ``start`` + t."""
+    return _DatedASCWriter(path, start) if path.suffix.lower() == ".asc" else can.Logger(str(path))
+
+
+def streamed(name: str) -> bool:
+    """Whether a log is written while the run goes (python-can's writers) or at its end (MF4)."""
+    return PurePath(name).suffix.lower() != ".mf4"
+
+
+def _write_python_can(path: Path, record: RunRecord, start: datetime) -> None:
+    start_s = start.timestamp()
+    writer = open_python_can_writer(path, start)
+    with writer:
+        for msg in _messages(record, start_s):
+            writer.on_message_received(msg)
+
+
+def _write_mf4(path: Path, record: RunRecord, start: datetime) -> None:
+    """All frames as one ASAM bus-logging ``CAN_DataFrame`` group on bus channel 1."""
+    import numpy as np
+    from asammdf import MDF, Signal, Source
+
+    n = len(record.frames)
+    layout = np.dtype([("CAN_DataFrame.BusChannel", "<u1"), ("CAN_DataFrame.ID", "<u4"),
+                       ("CAN_DataFrame.IDE", "<u1"), ("CAN_DataFrame.DLC", "<u1"),
+                       ("CAN_DataFrame.DataLength", "<u1"), ("CAN_DataFrame.DataBytes", "(8,)u1"),
+                       ("CAN_DataFrame.Dir", "<u1")])
+    samples = np.zeros(n, dtype=layout)
+    samples["CAN_DataFrame.BusChannel"] = 1
+    samples["CAN_DataFrame.ID"] = [f.arbitration_id for f in record.frames]
+    samples["CAN_DataFrame.DLC"] = samples["CAN_DataFrame.DataLength"] = [len(f.data) for f in record.frames]
+    payload = b"".join(bytes(f.data).ljust(8, b"\0") for f in record.frames)
+    samples["CAN_DataFrame.DataBytes"] = np.frombuffer(payload, dtype=np.uint8).reshape(n, 8)
+    source = Source("CAN1", "crd co-simulation", "classic CAN, 11-bit IDs", Source.SOURCE_BUS, Source.BUS_TYPE_CAN)
+    times_s = np.array([f.t_s for f in record.frames], dtype=float)
+    mdf = MDF(version="4.10")
+    try:
+        mdf.header.start_time = start
+        mdf.append(Signal(name="CAN_DataFrame", samples=samples, timestamps=times_s, source=source),
+                   acq_name="CAN1", acq_source=source, comment="crd run, strategy " + record.strategy)
+        written = Path(mdf.save(path, overwrite=True))
+    finally:
+        mdf.close()
+    if written != path:  # asammdf writes the suffix in lower case
+        written.replace(path)
+
+
+def write_can_logs(run_dir: Path, record: RunRecord, names: Sequence[str], start: datetime) -> list[Path]:
+    """Write ``record``'s frames to each file in ``names`` (checked by :func:`check_can_logs`)."""
+    paths = []
+    for name in names:
+        path = run_dir / name
+        (_write_mf4 if path.suffix.lower() == ".mf4" else _write_python_can)(path, record, start)
+        paths.append(path)
+    return paths
