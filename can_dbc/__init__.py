@@ -1,7 +1,8 @@
 """The CAN contract of crd: the DBC and a strict, end-to-end protected codec.
 
 ``DBC_PATH`` is the single source of truth for IDs, signals, cycle times,
-counters and checksums. :func:`encode` builds protected frames;
+counters and checksums; :mod:`can_dbc.contract` reads the timing, limits,
+enumerations and units everyone else uses from it. :func:`encode` builds protected frames;
 :class:`Receiver` checks received frames in the contract's order and keeps a
 validity score per message. See ``docs/CONTRACTS.md``.
 """
@@ -10,8 +11,20 @@ from .codec import encode, encode_payload
 from .counter import COUNTER_MODULUS, CounterSequence
 from .crc import crc8_j1850, e2e_p01_crc
 from .database import DATABASE, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_time_s, e2e_signal_names, signal_layout
+from .contract import (
+    BRAKE_DECEL_MAX_MPS2,
+    ECU_CYCLE_S,
+    MODE_NAMES,
+    STRATEGIES,
+    STRATEGY_CODES,
+    enumeration,
+    signal_dbc_per_si,
+    signal_range,
+    timeout_s,
+)
 from .errors import (
     ChecksumError,
+    ConfigError,
     CounterError,
     DecodeError,
     EnumError,
@@ -24,6 +37,8 @@ from .errors import (
 from .receiver import Frame, Receiver
 
 __all__ = [
+    "BRAKE_DECEL_MAX_MPS2", "ECU_CYCLE_S", "MODE_NAMES", "STRATEGIES", "STRATEGY_CODES",
+    "ConfigError", "enumeration", "signal_dbc_per_si", "signal_range", "timeout_s",
     "COUNTER_MODULUS", "DATABASE", "DBC_PATH", "LAYOUTS", "LAYOUTS_BY_ID",
     "ChecksumError", "CounterError", "CounterSequence", "DecodeError", "EnumError",
     "Frame", "FrameError", "LengthError", "RangeError", "Receiver", "SignalError",

@@ -40,18 +40,25 @@ def _signal_error(layout: MessageLayout, signals: Mapping[str, float]) -> Signal
     return SignalError(f"{layout.name}: cannot encode {dict(signals)}")
 
 
+#: a plain dict: looked up for every frame, and faster than the public read-only ``LAYOUTS`` proxy
+_LAYOUTS = dict(LAYOUTS)
+
+
 def encode_payload(message_name: str, signals: Mapping[str, float], counter: int) -> bytearray:
     """The protected 8-byte payload of ``message_name``."""
-    try:
-        layout = LAYOUTS[message_name]
-    except KeyError:
-        raise SignalError(f"unknown message {message_name!r}; expected one of {sorted(LAYOUTS)}") from None
+    layout = _LAYOUTS.get(message_name)
+    if layout is None:
+        raise SignalError(f"unknown message {message_name!r}; expected one of {sorted(LAYOUTS)}")
+    return _payload(layout, signals, counter)
+
+
+def _payload(layout: MessageLayout, signals: Mapping[str, float], counter: int) -> bytearray:
     if len(signals) != len(layout.signals):
         extra = set(signals) - {s.name for s in layout.signals}
         if extra:
-            raise SignalError(f"{message_name}: unknown signals {sorted(extra)}")
+            raise SignalError(f"{layout.name}: unknown signals {sorted(extra)}")
     if not (isinstance(counter, int) and 0 <= counter < COUNTER_MODULUS):
-        raise SignalError(f"{message_name}: expected counter in 0..14, got {counter!r}")
+        raise SignalError(f"{layout.name}: expected counter in 0..14, got {counter!r}")
     payload = counter << 8
     try:
         for name, start, mask, scale, offset, raw_min, raw_max in layout.pack_table:
@@ -93,10 +100,10 @@ class ContractMessage(can.Message):
 
 def encode(message_name: str, signals: Mapping[str, float], counter: int) -> can.Message:
     """A ``can.Message`` for ``message_name`` with counter and CRC filled in."""
-    data = encode_payload(message_name, signals, counter)
-    return ContractMessage(
-        arbitration_id=LAYOUTS[message_name].frame_id,
-        is_extended_id=False,
-        dlc=FRAME_LENGTH,
-        data=data,
-    )
+    layout = _LAYOUTS.get(message_name)
+    if layout is None:
+        raise SignalError(f"unknown message {message_name!r}; expected one of {sorted(LAYOUTS)}")
+    # positional: (timestamp, arbitration_id, is_extended_id, is_remote_frame, is_error_frame, channel,
+    # dlc, data); python-can's 13 keyword parameters cost more to bind than the frame costs to pack
+    return ContractMessage(0.0, layout.frame_id, False, False, False, None, FRAME_LENGTH,
+                           _payload(layout, signals, counter))

@@ -11,6 +11,9 @@ Hierarchy::
     ├── RangeError                   a signal outside its DBC [min, max]
     └── EnumError                    an enumeration value not declared with VAL_
     SignalError (ValueError)         ``encode`` was given missing, unknown or out-of-range signals
+    ConfigError (ValueError)         a configuration key is unknown, out of range or contradicts
+                                     the contract; the one base class for can_dbc, ecu and cosim
+                                     (``ecu.errors`` and ``cosim.errors`` re-export it)
 
 Every message states the expected and the actual value.
 """
@@ -52,3 +55,11 @@ class EnumError(FrameError):
 
 class SignalError(ValueError):
     """``encode`` was given signals that do not fit the message."""
+
+
+class ConfigError(ValueError):
+    """A configuration key is unknown, a value is out of range, or it contradicts the DBC.
+
+    The message names the key path (``ecu.cycle_s``) and, when loaded from a
+    file, the file; it gives the expected and the actual value.
+    """

@@ -1,8 +1,9 @@
-"""Cross-process loopback CAN transports: ``UnixSocketBus`` and its broadcast ``Hub``, and ``PairSocketBus``.
+"""python-can interfaces of our own: the in-process ``InProcessBus`` and the cross-process
+loopback transports ``UnixSocketBus`` (with its broadcast ``Hub``) and ``PairSocketBus``.
 
-Registered with python-can as interfaces ``crd_unix`` (any number of
-participants, through a hub) and ``crd_pair`` (exactly two, point to point, for
-lock-step round trips): ``can.Bus(interface="crd_unix", channel="/tmp/crd-can0.sock")``.
+Registered with python-can as interfaces ``crd_inproc`` (in process, no copies),
+``crd_unix`` (any number of participants, through a hub) and ``crd_pair`` (exactly
+two, point to point, for lock-step round trips): ``can.Bus(interface="crd_unix", channel="/tmp/crd-can0.sock")``.
 See README.md.
 Names are imported lazily so that ``python -m can_transport.hub`` runs cleanly.
 """
@@ -12,9 +13,10 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-__all__ = ["Hub", "PairSocketBus", "UnixSocketBus"]
+__all__ = ["Hub", "InProcessBus", "PairSocketBus", "UnixSocketBus"]
 
-_WHERE = {"Hub": "can_transport.hub", "PairSocketBus": "can_transport.pair_bus",
+_WHERE = {"Hub": "can_transport.hub", "InProcessBus": "can_transport.inproc_bus",
+          "PairSocketBus": "can_transport.pair_bus",
           "UnixSocketBus": "can_transport.unix_bus"}
 
 

@@ -2,8 +2,9 @@
 
 ::
 
+    ConfigError (ValueError)                        bad scenario file: names the key path and the file
+                                                    (crd's one configuration error, from can_dbc.errors)
     CosimError (Exception)
-     +-- ConfigError (CosimError, ValueError)      bad scenario file: names the key path
      +-- PlantError (CosimError, RuntimeError)      FMU missing, broken or mis-mapped
      |    +-- MappingError (PlantError, KeyError)   a mapped name the FMU lacks / wrong causality
      |    +-- FmiStepError (PlantError)             FMU returned an error mid-run (time + status)
@@ -15,13 +16,14 @@ from __future__ import annotations
 
 import signal
 
+from can_dbc.errors import ConfigError
+
+__all__ = ["ConfigError", "CosimError", "EcuStallError", "FmiStepError", "MappingError", "PlantError",
+           "RunInterrupted"]
+
 
 class CosimError(Exception):
     """Base of every co-simulation error."""
-
-
-class ConfigError(CosimError, ValueError):
-    """A scenario value is unknown, missing or out of range; the message names the key path."""
 
 
 class PlantError(CosimError, RuntimeError):

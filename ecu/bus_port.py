@@ -2,8 +2,9 @@
 
 :class:`InputLatch` keeps the latest fresh value of each input message and the
 cycle time at which it was received, and builds :class:`~ecu.core.CoreInputs`
-from them. Conversions (DBC -> SI): wheel speeds km/h / 3.6 -> m/s, pedals
-% / 100 -> fraction, object range m, range rate m/s (negative closing), lateral m,
+from them. Conversions (DBC -> SI, factors from :mod:`can_dbc.units`): wheel
+speeds km/h / 3.6 -> m/s, pedals % / 100 -> fraction, object range m, range rate m/s
+(negative closing), lateral m,
 ``ObjectValid`` 0/1 -> bool. The outgoing side encodes ``SafetyOverride`` and
 ``EcuStatus`` through ``can_dbc.encode`` (counter and CRC filled in); status
 values are clamped into their DBC ranges because they are informational. Each
@@ -18,13 +19,12 @@ from typing import Callable, Mapping
 
 import can
 
-from can_dbc import Frame, Receiver, encode
+from can_dbc import Frame, Receiver, encode, signal_range
+from can_dbc.units import KMH_PER_MPS, PERCENT
 
 from .core import CoreInputs, CoreOutputs
 from .core.types import NEVER_S, FaultFlag
 
-KMH_PER_MPS = 3.6
-PERCENT = 100.0
 #: messages the ECU consumes (the SimClock paces sim-time mode only).
 INPUT_MESSAGES = ("WheelSpeeds", "DriverInput", "ObjectTrack")
 SIM_CLOCK = "SimClock"
@@ -93,27 +93,24 @@ class InputLatch:
 
     def inputs(self, t_s: float, receiver: Receiver) -> CoreInputs:
         """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores."""
-        rx = self.rx_t_s
+        rx, score = self.rx_t_s, receiver.score
+        # positional, in CoreInputs' field order: built every cycle, and binding 14 keywords costs more
         return CoreInputs(
-            t_s=t_s,
-            wheel_speeds_mps=self.wheel_speeds_mps,
-            accel_pedal=self.accel_pedal,
-            brake_pedal=self.brake_pedal,
-            object_valid=self.object_valid,
-            object_range_m=self.object_range_m,
-            object_range_rate_mps=self.object_range_rate_mps,
-            wheel_rx_t_s=rx["WheelSpeeds"],
-            driver_rx_t_s=rx["DriverInput"],
-            object_rx_t_s=rx["ObjectTrack"],
-            wheel_e2e_score=receiver.score("WheelSpeeds"),
-            driver_e2e_score=receiver.score("DriverInput"),
-            object_e2e_score=receiver.score("ObjectTrack"),
-            object_lateral_m=self.object_lateral_m,
+            t_s, self.wheel_speeds_mps, self.accel_pedal, self.brake_pedal, self.object_valid,
+            self.object_range_m, self.object_range_rate_mps,
+            rx["WheelSpeeds"], rx["DriverInput"], rx["ObjectTrack"],
+            score("WheelSpeeds"), score("DriverInput"), score("ObjectTrack"),
+            self.object_lateral_m,
         )
 
 
-def _clamped(value: float, low: float, high: float) -> float:
+def _clamped(value: float, limits: tuple[float, float]) -> float:
+    low, high = limits
     return low if not math.isfinite(value) else min(high, max(low, value))
+
+
+_PROXIMITY, _STOPPING_M, _SPEED_MPS = (signal_range("EcuStatus", name)
+                                       for name in ("Proximity", "StoppingDistance", "SpeedEstimate"))
 
 
 def override_message(outputs: CoreOutputs, counter: int) -> can.Message:
@@ -130,8 +127,8 @@ def status_message(outputs: CoreOutputs, strategy_code: int, counter: int) -> ca
     """``EcuStatus``: strategy, proximity, stopping distance, speed estimate and fault flags."""
     return encode("EcuStatus", {
         "Strategy": strategy_code,
-        "Proximity": _clamped(outputs.proximity, 0.0, 1.0),
-        "StoppingDistance": _clamped(outputs.stopping_distance_m, 0.0, 500.0),
-        "SpeedEstimate": _clamped(outputs.speed_estimate_mps, 0.0, 100.0),
+        "Proximity": _clamped(outputs.proximity, _PROXIMITY),
+        "StoppingDistance": _clamped(outputs.stopping_distance_m, _STOPPING_M),
+        "SpeedEstimate": _clamped(outputs.speed_estimate_mps, _SPEED_MPS),
         **fault_signals(outputs.fault_flags),
     }, counter=counter)

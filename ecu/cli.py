@@ -15,8 +15,9 @@ import threading
 
 import can
 
+from can_dbc.contract import STRATEGIES
+
 from .config import EcuConfig
-from .core.params import STRATEGIES
 from .node import EcuNode
 
 

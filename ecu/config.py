@@ -7,7 +7,14 @@ number the arithmetic uses, with defaults) plus the shell's own settings
 Loading is strict: an unknown key raises :class:`~ecu.errors.ConfigError`
 naming the key path and the nearest valid name (``difflib``); a value of the
 wrong type or outside its range raises ``ConfigError`` with the expected and
-the actual value. Nothing comes from the environment.
+the actual value. A value that contradicts the CAN contract is refused the
+same way (:func:`_check_contract`): ``cycle_s`` must be the DBC's cycle of
+``SafetyOverride`` (the master steps the ECU at that cycle, so another value
+would make the core compute hold times and slope limits with the wrong time
+step), ``status_period_cycles`` must give ``EcuStatus``'s DBC cycle, a
+reception timeout may not be shorter than its message's cycle, and no
+deceleration may exceed the full scale of ``BrakeDecelRequest``. Nothing
+comes from the environment.
 """
 
 from __future__ import annotations
@@ -19,25 +26,30 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any, Mapping
 
-from .core.params import NON_DRIVEN_WHEELS, STRATEGIES, CoreParams
+from can_dbc.contract import BRAKE_DECEL_MAX_MPS2, ECU_CYCLE_S, STRATEGIES, cycle_time_s
+
+from .core.params import NON_DRIVEN_WHEELS, CoreParams
 from .errors import ConfigError
 
-#: The ECU's cycle time (s). Every DBC output cycle is a multiple of it.
-ECU_CYCLE_S = 0.01
+#: EcuStatus is sent every this many ECU cycles (DBC: 100 ms / 10 ms)
+STATUS_PERIOD_CYCLES = round(cycle_time_s("EcuStatus") / ECU_CYCLE_S)
+#: reception timeout key -> the message it times out
+_TIMEOUTS = {"wheel_speeds_timeout_s": "WheelSpeeds", "driver_input_timeout_s": "DriverInput",
+             "object_timeout_s": "ObjectTrack"}
 
 _POSITIVE = (0.0, math.inf, False)  # (low, high, low inclusive)
 #: key -> (low, high, low inclusive); high is always inclusive.
 _RANGES: dict[str, tuple[float, float, bool]] = {
     "cycle_s": (0.0, 1.0, False),
     "actuation_latency_s": (0.0, 5.0, True),
-    "peak_decel_mps2": (0.0, 15.0, False),
+    "peak_decel_mps2": (0.0, BRAKE_DECEL_MAX_MPS2, False),
     "none_decel_fraction": (0.0, 1.0, False),
     "conservative_decel_fraction": (0.0, 1.0, False),
     "tightening_decel_fraction": (0.0, 1.0, False),
     "standoff_m": (0.0, 100.0, True),
     "driver_max_accel_mps2": (0.0, 20.0, False),
     "proximity_margin_m": (0.0, 250.0, False),
-    "contingency_decel_mps2": (0.0, 15.0, False),
+    "contingency_decel_mps2": (0.0, BRAKE_DECEL_MAX_MPS2, False),
     "speed_slope_margin_mps2": (0.0, 50.0, True),
     "brake_memory_s": (0.0, 10.0, True),
     "moving_object_speed_mps": (0.0, 100.0, True),
@@ -54,7 +66,7 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
     "status_period_cycles": (1, 100_000, True),
 }
 _CHOICES: dict[str, tuple[str, ...]] = {
-    "strategy": tuple(STRATEGIES),
+    "strategy": STRATEGIES,
     "driven_axle": tuple(NON_DRIVEN_WHEELS),
 }
 _INTEGERS = {"e2e_invalid_score", "fault_recovery_cycles", "status_period_cycles"}
@@ -65,12 +77,13 @@ class EcuConfig(CoreParams):
     """Strategy, core parameters and node settings. Construct directly or via the loaders."""
 
     #: ``EcuStatus`` is sent every this many cycles (DBC: 100 ms = 10 cycles).
-    status_period_cycles: int = 10
+    status_period_cycles: int = STATUS_PERIOD_CYCLES
     #: run() performs one cycle per received ``SimClock`` frame instead of on the wall clock.
     sim_time: bool = False
 
     def __post_init__(self) -> None:
         _validate(self, "ecu")
+        _check_contract(self, "ecu")
         CoreParams.__post_init__(self)
 
     @classmethod
@@ -141,3 +154,17 @@ def _validate(config: EcuConfig, where: str) -> None:
         if not (isinstance(value, (int, float)) and math.isfinite(value) and ok_low and value <= high):
             bracket = "[" if low_inclusive else "("
             raise ConfigError(f"{where}.{key}: expected a value in {bracket}{low}, {high}], got {value!r}")
+
+
+def _check_contract(config: EcuConfig, where: str) -> None:
+    """Refuse values that contradict the DBC (see the module docstring)."""
+    if abs(config.cycle_s - ECU_CYCLE_S) > 1e-12:
+        raise ConfigError(f"{where}.cycle_s: expected {ECU_CYCLE_S} s, the DBC's GenMsgCycleTime of "
+                          f"SafetyOverride at which the ECU is stepped, got {config.cycle_s!r}")
+    if config.status_period_cycles != STATUS_PERIOD_CYCLES:
+        raise ConfigError(f"{where}.status_period_cycles: expected {STATUS_PERIOD_CYCLES} (the DBC's EcuStatus "
+                          f"cycle of {cycle_time_s('EcuStatus')} s), got {config.status_period_cycles!r}")
+    for key, message in _TIMEOUTS.items():
+        value, cycle = getattr(config, key), cycle_time_s(message)
+        if value < cycle:
+            raise ConfigError(f"{where}.{key}: expected at least {cycle} s, {message}'s DBC cycle, got {value!r}")

@@ -1,15 +1,14 @@
 """Typed errors of the ECU package.
 
-Hierarchy::
-
-    ConfigError (ValueError)   a configuration key is unknown or a value is out of range
-
-Messages name the key path (``ecu.peak_decel_mps2``) and give the expected
-and the actual value.
+``ConfigError`` (a ``ValueError``) is the one configuration error of crd,
+defined in :mod:`can_dbc.errors` and re-exported here: a configuration key is
+unknown, a value is out of range, or it contradicts the DBC. Messages name
+the key path (``ecu.peak_decel_mps2``) and give the expected and the actual
+value.
 """
 
 from __future__ import annotations
 
+from can_dbc.errors import ConfigError
 
-class ConfigError(ValueError):
-    """Invalid ECU configuration (unknown key, wrong type or out-of-range value)."""
+__all__ = ["ConfigError"]

@@ -34,12 +34,9 @@ import threading
 import time
 from collections import deque
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Iterable
+from typing import Iterable, Protocol
 
 import can
-
-if TYPE_CHECKING:
-    from .node import EcuNode
 
 log = logging.getLogger(__name__)
 
@@ -84,6 +81,21 @@ class RunReport:
                 f"lag {self.lag_s.ms()}; jitter {self.jitter_s.ms()}; step {self.step_s.ms()}")
 
 
+class ScheduledNode(Protocol):
+    """What a scheduler needs of a node (:class:`ecu.node.EcuNode` is one); no import of the node."""
+
+    bus: can.BusABC
+
+    def step(self, t_s: float) -> object:
+        """Drain the bus and run one cycle at ``t_s`` (s)."""
+
+    def ingest(self, msg: can.Message, t_s: float) -> None:
+        """Check ``msg`` now and latch it as received at cycle time ``t_s``."""
+
+    def on_sim_message(self, msg: can.Message) -> object | None:
+        """Sim time: buffer ``msg``; a valid ``SimClock`` runs one cycle (returns its outputs, else None)."""
+
+
 class _Samples:
     def __init__(self) -> None:
         self.values: deque[float] = deque(maxlen=WINDOW)
@@ -118,7 +130,7 @@ class _Receiver:
         return msg
 
 
-def run_real_time(node: "EcuNode", stop_event: threading.Event, cycle_s: float) -> RunReport:
+def run_real_time(node: ScheduledNode, stop_event: threading.Event, cycle_s: float) -> RunReport:
     """Cycle on absolute wall-clock deadlines until ``stop_event`` is set."""
     clock = time.perf_counter
     lag, jitter, duration = _Samples(), _Samples(), _Samples()
@@ -150,7 +162,7 @@ def run_real_time(node: "EcuNode", stop_event: threading.Event, cycle_s: float) 
                      duration.percentiles())
 
 
-def _receive_until(node: "EcuNode", receiver: _Receiver, deadline: float, t_s: float, clock) -> None:
+def _receive_until(node: ScheduledNode, receiver: _Receiver, deadline: float, t_s: float, clock) -> None:
     """Wait for the deadline while taking frames in as they arrive (they belong to cycle ``t_s``).
 
     Spreading the decoding over the idle time keeps a flood of frames from piling up
@@ -167,7 +179,7 @@ def _receive_until(node: "EcuNode", receiver: _Receiver, deadline: float, t_s: f
             time.sleep(0)  # lets another thread of this process (a bus reader, a sender) take the GIL
 
 
-def run_sim_time(node: "EcuNode", stop_event: threading.Event) -> RunReport:
+def run_sim_time(node: ScheduledNode, stop_event: threading.Event) -> RunReport:
     """One cycle per ``SimClock`` frame until ``stop_event`` is set."""
     clock = time.perf_counter
     duration = _Samples()

@@ -15,8 +15,9 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
                    help="inprocess (default); process: spawn `crd ecu` on the bus and stop it at the end; "
                         "attach: use an ECU already running on --bus-channel")
     g.add_argument("--bus-interface", default=None,
-                   help="python-can interface shared with the ECU process (default: crd_pair, point to "
-                        "point, for --ecu process in lock-step; crd_unix, through a hub, otherwise)")
+                   help="python-can interface to the ECU (default: crd_inproc for --ecu inprocess, e.g. "
+                        "'virtual' for python-can's; crd_pair, point to point, for --ecu process in "
+                        "lock-step; crd_unix, through a hub, otherwise)")
     g.add_argument("--bus-channel", help="its channel (crd_unix: a socket path; process: a fresh one by default)")
     g.add_argument("--join-timeout", type=float, default=10.0, metavar="S",
                    help="wall-clock bound on waiting for the ECU to join (default 10 s)")

@@ -18,10 +18,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
 
+from can_dbc import MODE_NAMES
+
 from .run_record import RunRecord
 
 STRATEGY_COLORS = {"none": "C0", "conservative": "C1", "tightening": "C2", "adaptive": "C4"}  # in every plot
-_MODE_LEVEL = {"STANDBY": 0, "TIGHTENING": 1, "CONTINGENCY": 2, "FAULT": 3, "NO_OVERRIDE": -1}
+_MODE_LEVEL = {name: value for value, name in MODE_NAMES.items()} | {"NO_OVERRIDE": -1}  # the DBC's VAL_
 ZOOM_SPAN_M = 75.0  # the zoomed panel: this far before the object (150..225 m in the paper)
 _COLLISION = dict(color="crimson", marker="X", markersize=10, linestyle="none", zorder=5)
 # Fixed margins (fractions of the figure) leave the right-hand strip to the legends; a layout

@@ -12,9 +12,9 @@ from datetime import datetime
 from types import MappingProxyType
 from typing import Mapping
 
-STRATEGIES = ("none", "conservative", "tightening")
-ECU_CYCLE_S = 0.01  # the contract's SafetyOverride / DriverInput cycle (DBC GenMsgCycleTime 10 ms)
-OBJECT_TRACK_PERIOD_S = 0.05  # the contract's ObjectTrack cycle (DBC GenMsgCycleTime 50 ms)
+from can_dbc.contract import ECU_CYCLE_S, STRATEGIES, cycle_time_s, timeout_s
+
+OBJECT_TRACK_PERIOD_S = cycle_time_s("ObjectTrack")  # the contract's radar cycle (DBC GenMsgCycleTime 50 ms)
 #: ``[scenario] start_time`` default: the start of 2020, UTC. A fixed date keeps the logs'
 #: headers deterministic; any date from 1990 on works (BLF treats earlier ones as unset).
 DEFAULT_START_TIME = "2020-01-01T00:00:00+00:00"
@@ -219,7 +219,7 @@ class GatewayConfig:
     """
 
     brake_full_decel_mps2: float = field(default=12.0, metadata=_r(1.0, 30.0))
-    override_timeout_s: float = field(default=0.05, metadata=_r(0.01, 1.0))
+    override_timeout_s: float = field(default=timeout_s("SafetyOverride"), metadata=_r(ECU_CYCLE_S, 1.0))
 
 
 @dataclass(frozen=True)

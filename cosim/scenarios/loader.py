@@ -3,8 +3,9 @@
 Unknown keys raise :class:`~cosim.errors.ConfigError` naming the key path
 (``plant.inputs.throtle``) and, for a near miss, the closest valid name
 (:func:`difflib.get_close_matches`). Values are type- and range-checked
-against each field's ``metadata``. ``[ecu]`` parameters other than
-``strategy`` are checked by ``ecu.EcuConfig.from_dict`` when the run starts.
+against each field's ``metadata``. ``[ecu]`` is checked at load, by
+``ecu.EcuConfig.from_dict`` (ranges, and agreement with the DBC, e.g. no
+``cycle_s`` other than the contract's 10 ms); every error names the file.
 """
 
 from __future__ import annotations
@@ -18,6 +19,9 @@ import typing
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Mapping
+
+from can_dbc.contract import ECU_CYCLE_S
+from ecu import EcuConfig
 
 from ..errors import ConfigError
 from .config import (
@@ -198,6 +202,7 @@ def _section(cls: type, table: Any, path: str) -> Any:
         table = dict(table)
         kwargs = {"strategy": _plain_field(fields["strategy"], str, table.pop("strategy", "tightening"),
                                            f"{path}.strategy")}
+        EcuConfig.from_dict({**table, **kwargs}, where=path)  # refused here, at load, not when a run starts
         return EcuSection(parameters=MappingProxyType(table), **kwargs)
     _check_keys(table, fields, path)
     kwargs: dict[str, Any] = {}
@@ -290,9 +295,9 @@ def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) ->
     _check_initial(plant)
     sections["plant"] = plant
     scen = sections.get("scenario", ScenarioSection())
-    cycles = 0.01 / scen.step_s
+    cycles = ECU_CYCLE_S / scen.step_s
     if abs(cycles - round(cycles)) > 1e-9:
-        raise ConfigError(f"scenario.step_s: expected a divisor of the 0.01 s ECU cycle, got {scen.step_s!r}")
+        raise ConfigError(f"scenario.step_s: expected a divisor of the {ECU_CYCLE_S} s ECU cycle, got {scen.step_s!r}")
     return Scenario(**sections)
 
 

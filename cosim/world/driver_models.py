@@ -12,6 +12,8 @@ from typing import Callable
 
 import numpy as np
 
+from can_dbc import ECU_CYCLE_S
+
 from ..scenarios.config import DriverConfig
 
 
@@ -47,7 +49,7 @@ def cruise(cfg: DriverConfig) -> DriverModel:
     return model
 
 
-def hold_speed(cfg: DriverConfig, cycle_s: float = 0.01) -> DriverModel:
+def hold_speed(cfg: DriverConfig, cycle_s: float = ECU_CYCLE_S) -> DriverModel:
     """A test robot holding ``set_speed_mps``: PI on speed, accelerator only.
 
     ``e = set_speed_mps - v``; ``I += e * cycle_s`` while the accelerator is not

@@ -38,12 +38,11 @@ from __future__ import annotations
 
 import logging
 from collections import deque
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import can
 
-from can_dbc import LAYOUTS, CounterError, FrameError, Receiver
-from ecu.core import Mode
+from can_dbc import LAYOUTS, MODE_NAMES, CounterError, FrameError, Receiver
 
 from .driver_models import Pedals
 from ..results.run_record import RunEvent
@@ -56,12 +55,11 @@ CONFLICT_MODE = "SECOND_ECU"  # reported while two ECUs send SafetyOverride
 _OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
 #: a detected second sender keeps the overrides ignored until this long (s) without an excess.
 CONFLICT_HOLD_S = 1.0
-_MODE_NAMES = {int(mode): mode.name for mode in Mode}
+_MODE_NAMES = MODE_NAMES  # the DBC's VAL_ of SafetyOverride.Mode
 
 
-@dataclass(frozen=True, slots=True)
-class Actuation:
-    """Plant commands, both 0..1."""
+class Actuation(NamedTuple):
+    """Plant commands, both 0..1 (a tuple: built every cycle, about 4x cheaper than a frozen dataclass)."""
 
     throttle: float
     brake: float

@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from can_dbc import signal_layout
+from can_dbc import ECU_CYCLE_S, signal_layout
 
-from ..scenarios.config import ECU_CYCLE_S, RadarConfig
+from ..scenarios.config import RadarConfig
 
 DBC_RANGE_MAX_M = signal_layout("ObjectTrack", "ObjectRange").maximum
 DBC_RATE_MAX_MPS = signal_layout("ObjectTrack", "ObjectRangeRate").maximum

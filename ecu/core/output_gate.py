@@ -10,21 +10,28 @@ resolution so the pass-through test below is exact.
 
 ``OverrideActive`` is 0 only when the outputs equal the pass-through values
 ``ThrottleLimit = 100 %`` and ``BrakeDecelRequest = 0``; any doubt means 1.
-The limits mirror ``SafetyOverride`` in ``can_dbc/active_safety.dbc``
-(a test checks they agree); the core does not load the DBC itself.
+The limits and resolutions are ``SafetyOverride``'s in
+``can_dbc/active_safety.dbc`` (read through :mod:`can_dbc.contract`).
+
+Any real number passes the type check (``float``, ``int``, and NumPy's
+scalars such as ``np.float64``, which the plant wrapper or a strategy may
+hand over); ``bool``, ``None``, strings and other objects are replaced.
 """
 
 from __future__ import annotations
 
 import math
+import numbers
 from typing import NamedTuple
+
+from can_dbc.contract import signal_range, signal_resolution
 
 from .types import Mode
 
-THROTTLE_RANGE_PCT = (0.0, 100.0)
-THROTTLE_RESOLUTION_PCT = 0.1
-DECEL_RANGE_MPS2 = (0.0, 15.0)
-DECEL_RESOLUTION_MPS2 = 0.01
+THROTTLE_RANGE_PCT = signal_range("SafetyOverride", "ThrottleLimit")
+THROTTLE_RESOLUTION_PCT = signal_resolution("SafetyOverride", "ThrottleLimit")
+DECEL_RANGE_MPS2 = signal_range("SafetyOverride", "BrakeDecelRequest")
+DECEL_RESOLUTION_MPS2 = signal_resolution("SafetyOverride", "BrakeDecelRequest")
 SAFE_THROTTLE_PCT = 0.0
 SAFE_DECEL_MPS2 = 0.0
 PASS_THROUGH_THROTTLE_PCT = 100.0
@@ -42,7 +49,12 @@ class GatedOutputs(NamedTuple):
 
 
 def _checked(value: float, limits: tuple[float, float], steps_per_unit: float, safe: float) -> tuple[float, bool]:
-    if value.__class__ not in (float, int) or not math.isfinite(value):
+    cls = value.__class__
+    if cls is not float and cls is not int:  # the common case costs two identity tests
+        if not isinstance(value, numbers.Real) or isinstance(value, bool):
+            return safe, True
+        value = float(value)  # e.g. np.float64, np.int32
+    if not math.isfinite(value):
         return safe, True
     # dividing by a power of ten gives the float nearest to the decimal, so equality tests are exact
     quantised = round(value * steps_per_unit) / steps_per_unit

@@ -11,15 +11,19 @@ table lookups:
     model_decel_mps2 = fraction(strategy) * peak_decel_mps2
 
 Range checks live in :mod:`ecu.config` (the one loader); the core trusts its
-parameters.
+parameters. Defaults that are facts of the CAN contract (the cycle, the
+reception timeouts, the full-scale deceleration request) are read from the
+DBC through :mod:`can_dbc.contract`; the loader refuses values that contradict it.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-#: strategy name -> the DBC enumeration value of ``EcuStatus.Strategy``.
-STRATEGIES: dict[str, int] = {"none": 0, "conservative": 1, "tightening": 2}
+from can_dbc.contract import BRAKE_DECEL_MAX_MPS2, ECU_CYCLE_S, STRATEGY_CODES, timeout_s
+
+#: strategy name -> the DBC enumeration value of ``EcuStatus.Strategy`` (its ``VAL_``, lower case).
+STRATEGIES = STRATEGY_CODES
 #: driven axle name -> wheel indices (FL, FR, RL, RR order) of the *non-driven* wheels.
 NON_DRIVEN_WHEELS: dict[str, tuple[int, ...]] = {
     "front": (2, 3),
@@ -33,7 +37,7 @@ class CoreParams:
     """Everything the core's arithmetic depends on (defaults are the lead's starting values)."""
 
     strategy: str = "tightening"
-    cycle_s: float = 0.01
+    cycle_s: float = ECU_CYCLE_S
     #: declared delay from our frame to the brake/powertrain acting on it.
     actuation_latency_s: float = 0.1
     #: peak achievable deceleration of the vehicle on dry road.
@@ -50,7 +54,7 @@ class CoreParams:
     proximity_margin_m: float = 10.0
     #: deceleration requested by the contingency: full braking, the DBC's full
     #: scale; the brake ECU saturates it at full pressure (ABS then limits slip).
-    contingency_decel_mps2: float = 15.0
+    contingency_decel_mps2: float = BRAKE_DECEL_MAX_MPS2
     #: "front", "rear" or "all"; the plant is front-wheel driven.
     driven_axle: str = "front"
     #: allowance on top of the physical limits in the speed estimate's slope limiter.
@@ -74,9 +78,9 @@ class CoreParams:
     #: time at the closing speed, capped at proximity_margin_m, floored at proximity_margin_min_m.
     proximity_time_s: float = 1.0
     proximity_margin_min_m: float = 1.0
-    wheel_speeds_timeout_s: float = 0.05
-    driver_input_timeout_s: float = 0.05
-    object_timeout_s: float = 0.25
+    wheel_speeds_timeout_s: float = timeout_s("WheelSpeeds")
+    driver_input_timeout_s: float = timeout_s("DriverInput")
+    object_timeout_s: float = timeout_s("ObjectTrack")
     #: an input is invalid while its E2E validity score (can_dbc) is at or above this.
     e2e_invalid_score: int = 5
     #: consecutive all-valid cycles needed to leave FAULT (also at start-up).

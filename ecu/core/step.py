@@ -119,14 +119,8 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     plan = plan_cycle(speed, inputs, params)
     contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
         state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
-    decision = next_mode(
-        flags,
-        planned_mode(plan.disjoint, plan.tightening_restricts),
-        state.valid_cycles,
-        contingency_active,
-        speed <= params.standstill_speed_mps,
-        params,
-    )
+    decision = next_mode(flags, planned_mode(plan.disjoint, plan.tightening_restricts), state.valid_cycles,
+                         contingency_active, speed <= params.standstill_speed_mps, params)
     throttle, decel = _commands(decision, plan, params)
     gated = gate(decision.mode, throttle, decel)
     if gated.interventions:

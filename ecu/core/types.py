@@ -17,16 +17,12 @@ import math
 from enum import IntEnum
 from typing import NamedTuple
 
+from can_dbc.contract import MODE_NAMES
+
 NEVER_S = -math.inf
 
-
-class Mode(IntEnum):
-    """``SafetyOverride.Mode`` of the DBC."""
-
-    STANDBY = 0
-    TIGHTENING = 1
-    CONTINGENCY = 2
-    FAULT = 3
+#: ``SafetyOverride.Mode`` of the DBC, built from its ``VAL_``: STANDBY, TIGHTENING, CONTINGENCY, FAULT.
+Mode = IntEnum("Mode", {name: value for value, name in MODE_NAMES.items()}, module=__name__)
 
 
 class FaultFlag(IntEnum):

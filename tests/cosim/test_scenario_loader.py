@@ -59,6 +59,17 @@ def test_paper_scenario_loads_and_resolved_round_trips():
     assert again == sc
 
 
+def test_ecu_section_contradicting_the_contract_is_refused_at_load(tmp_path):
+    # issue 10: [ecu] cycle_s = 0.02 loaded, while the master steps the ECU every 10 ms
+    path = tmp_path / "slow_ecu.toml"
+    path.write_text('[ecu]\nstrategy = "none"\ncycle_s = 0.02\n')
+    with pytest.raises(ConfigError, match=r"slow_ecu.toml: ecu.cycle_s: expected 0.01 s.*got 0.02"):
+        load_scenario(path)
+    path.write_text('[ecu]\npeak_decel_mps2 = -1.0\n')
+    with pytest.raises(ConfigError, match=r"slow_ecu.toml: ecu.peak_decel_mps2"):
+        load_scenario(path)
+
+
 def test_start_time_default_and_offset_datetimes():
     default = scenario_from_dict({}).scenario
     assert default.start_time == "2020-01-01T00:00:00+00:00" and default.start_datetime.year == 2020

@@ -2,6 +2,8 @@
 
 import math
 
+import numpy as np
+
 import pytest
 
 from can_dbc import LAYOUTS
@@ -61,3 +63,18 @@ def test_gate_denies_bad_values_and_counts_them(throttle, decel):
 def test_gate_rejects_an_unknown_mode():
     g = og.gate(7, 100.0, 0.0)
     assert g.mode == Mode.FAULT and g.interventions == 1 and g.override_active
+
+
+@pytest.mark.parametrize("scalar", [np.float64, np.float32, np.int64])
+def test_gate_passes_numpy_scalars_like_floats(scalar):
+    # issue 10: gate() sent FAULT for an np.float64 (its class is not float or int)
+    assert og.gate(Mode.STANDBY, scalar(100.0), scalar(0.0)) == og.gate(Mode.STANDBY, 100.0, 0.0)
+    gated = og.gate(Mode.TIGHTENING, scalar(40.0), scalar(2.0))
+    assert gated.mode == Mode.TIGHTENING and gated.interventions == 0
+    assert gated.throttle_limit_pct == 40.0 and type(gated.throttle_limit_pct) is float
+
+
+@pytest.mark.parametrize("bad", [True, "100", None, [100.0], complex(1, 0)])
+def test_gate_still_refuses_what_is_not_a_real_number(bad):
+    gated = og.gate(Mode.STANDBY, bad, 0.0)
+    assert gated.mode == Mode.FAULT and gated.interventions == 1 and gated.throttle_limit_pct == 0.0

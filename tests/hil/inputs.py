@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+from can_dbc.units import KMH_PER_MPS
+
 from .harness import Harness
 
-KMH_PER_MPS = 3.6
 #: start-up: FAULT until the inputs have been valid for the recovery cycles (10), plus margin.
 STARTUP_S = 0.3
 

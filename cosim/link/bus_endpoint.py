@@ -1,0 +1,161 @@
+"""The master's end of a bus shared with an ECU elsewhere: the bus, a spawned ECU, joining, losing it.
+
+One job, shared by :mod:`cosim.link.lock_step` and :mod:`cosim.link.real_time`:
+open the bus (a fresh socket in a private temp dir unless a channel is given),
+spawn ``crd ecu`` for ``--ecu process``, wait (bounded) for the ECU to join,
+send and receive without letting a bus error escape into the loop, and record
+``ecu_lost`` when the ECU is gone. Nothing waits without a bound.
+
+Whether the transport can count its participants is a typed capability
+(:class:`PeerCounting`, ``crd_unix`` and ``crd_pair`` have it), checked once
+when the bus opens; without it (e.g. SocketCAN) joining is seen from the
+ECU's first frame.
+"""
+
+from __future__ import annotations
+
+import logging
+import shutil
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+from typing import Protocol, runtime_checkable
+
+import can
+
+from ecu import EcuConfig
+
+from ..results.events import EventLog
+from ..results.run_record import RunEvent
+from .ecu_link import EcuLinkError, EcuOptions
+from .ecu_process import EcuProcess
+
+log = logging.getLogger(__name__)
+_POLL_S = 0.005
+
+
+@runtime_checkable
+class PeerCounting(Protocol):
+    """A bus that knows how many other participants it has."""
+
+    peer_count: int
+
+
+class BusEndpoint:
+    """The bus, the spawned ECU (``--ecu process``) and the ECU-lost bookkeeping."""
+
+    def __init__(self, options: EcuOptions, config: EcuConfig) -> None:
+        self.options = options
+        self.process: EcuProcess | None = None
+        self.events = EventLog()  # rate-limited: a dead peer fails every frame
+        self.ecu_report = ""
+        self.lost = False
+        self.join_wait_s = 0.0
+        self._tmpdir: Path | None = None
+        channel = options.channel
+        if channel is None:
+            self._tmpdir = Path(tempfile.mkdtemp(prefix="crd-ecu-"))
+            channel = str(self._tmpdir / "can.sock")
+        self.channel = channel
+        self.bus: can.BusABC | None = None
+        try:
+            self.bus = can.Bus(interface=options.interface, channel=channel, receive_own_messages=False)
+            self.peers: PeerCounting | None = self.bus if isinstance(self.bus, PeerCounting) else None
+            if options.mode == "process":
+                self._tmpdir = self._tmpdir or Path(tempfile.mkdtemp(prefix="crd-ecu-"))
+                self.process = EcuProcess(options.interface, channel, config, not options.realtime, self._tmpdir)
+        except BaseException:
+            self.close()
+            raise
+
+    @property
+    def pid(self) -> int | None:
+        return self.process.pid if self.process else None
+
+    def join(self, first_frame_joins: bool) -> None:
+        """Wait (at most ``join_timeout_s``) for the ECU; drop anything sent before.
+
+        Without a peer count, ``first_frame_joins`` waits for the ECU's first frame (real
+        time); otherwise the first cycle's reply wait stands in for joining (lock-step).
+        """
+        started = time.monotonic()
+        deadline = started + self.options.join_timeout_s
+        while True:
+            if self.process is not None and not self.process.alive():
+                self.process.stop()
+                raise EcuLinkError(f"crd ecu (pid {self.process.pid}) exited with code {self.process.returncode}"
+                                   f" before joining the bus: {self.process.output()[-500:]}")
+            if self.peers is not None:
+                if self.peers.peer_count >= 1:
+                    break
+            elif not first_frame_joins or self.recv(_POLL_S) is not None:
+                break
+            if time.monotonic() >= deadline:
+                raise EcuLinkError(f"expected an ECU on {self.options.interface} {self.channel} within "
+                                   f"{self.options.join_timeout_s} s, none joined")
+            time.sleep(_POLL_S)
+        while self.recv(0.0) is not None:
+            pass
+        self.join_wait_s = time.monotonic() - started
+
+    def recv(self, timeout: float, t_s: float = 0.0) -> can.Message | None:
+        try:
+            return self.bus.recv(timeout=timeout)
+        except can.CanError as exc:
+            self._bus_error(t_s, exc)
+            return None
+
+    def send(self, msg: can.Message, t_s: float) -> None:
+        try:
+            self.bus.send(msg)
+        except can.CanError as exc:
+            self._bus_error(t_s, exc)
+
+    def drain(self, t_s: float, into: list[can.Message]) -> list[can.Message]:
+        """Append every frame already received to ``into``; returns it."""
+        while (msg := self.recv(0.0, t_s)) is not None:
+            into.append(msg)
+        return into
+
+    def who(self) -> str:
+        """The ECU, for messages: the spawned process and whether it runs, or the bus it is on."""
+        if self.process is None:
+            return f"the ECU on {self.options.interface} {self.channel}"
+        return f"crd ecu pid {self.process.pid}, {'still running' if self.process.alive() else 'exited'}"
+
+    def _bus_error(self, t_s: float, exc: Exception) -> None:
+        if self.events.add(RunEvent(t_s, "bus_error", str(exc))):  # logged as often as kept
+            log.warning("t=%.3f s: bus error: %s", t_s, exc)
+        gone = self.peers is not None and self.peers.peer_count == 0
+        if self.process is not None and gone:
+            try:  # it left the bus; give the kernel a moment to report its exit
+                self.process.proc.wait(timeout=0.5)
+            except subprocess.TimeoutExpired:
+                pass
+        if self.process is not None and not self.process.alive():
+            self.lose(t_s, f"crd ecu (pid {self.process.pid}) exited with code {self.process.proc.returncode}")
+        elif gone:
+            self.lose(t_s, "no ECU left on the bus")
+
+    def lose(self, t_s: float, detail: str) -> None:
+        """Record ``ecu_lost`` once; the master stops waiting and the gateway falls back to the driver."""
+        if self.lost:
+            return
+        self.lost = True
+        self.events.append(RunEvent(t_s, "ecu_lost", detail + "; the gateway falls back to the driver"))
+        log.warning("t=%.3f s: ECU lost: %s", t_s, detail)
+
+    def close(self) -> None:
+        """Stop the spawned ECU (by PID), then leave the bus; idempotent."""
+        try:
+            if self.process is not None:
+                code = self.process.stop(self.options.stop_timeout_s)
+                self.ecu_report = self.process.output()
+                log.info("crd ecu pid %d exited with %s", self.process.pid, code)
+        finally:
+            if self.bus is not None:
+                self.bus.shutdown()
+            if self._tmpdir is not None:
+                shutil.rmtree(self._tmpdir, ignore_errors=True)
+                self._tmpdir = None

@@ -1,0 +1,95 @@
+"""Lock-step with an ECU on a bus: each cycle one round trip, the ECU cycling on ``SimClock``.
+
+Each cycle the master sends its frames, then ``SimClock`` (``SimTimeMs =
+round(t * 1000)``); the ECU (``crd ecu --sim-time``) runs one cycle on it,
+after the frames before it, and the master waits up to ``reply_timeout_s``
+(wall time) for that cycle's ``SafetyOverride`` (and, for a spawned ECU, the
+``EcuStatus`` due in that cycle) before it advances. The ECU sees the same
+frames at the same cycle times as in process, so metrics and time series are
+identical. A silent ECU is a stall (:mod:`cosim.link.stall`): the master
+waits up to ``stall_timeout_s``, simulated time held, then stops the run with
+:class:`~cosim.errors.EcuStallError`; a wait over ``reply_timeout_s`` is
+recorded as an ``ecu_stall`` event.
+"""
+
+from __future__ import annotations
+
+import time
+
+import can
+
+from can_dbc import LAYOUTS, CounterSequence, encode
+from ecu import EcuConfig
+
+from .bus_endpoint import BusEndpoint
+from .ecu_link import EcuOptions, LinkReport
+from .stall import StallWatch
+
+OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
+STATUS_ID = LAYOUTS["EcuStatus"].frame_id
+
+
+class LockStepLink:
+    """An :class:`~cosim.link.ecu_link.EcuLink` over a bus in simulated time (process or attach)."""
+
+    realtime = False
+
+    def __init__(self, options: EcuOptions, config: EcuConfig) -> None:
+        self.options = options
+        self.endpoint = BusEndpoint(options, config)
+        self.events = self.endpoint.events
+        self._status_period = config.status_period_cycles if options.mode == "process" else None
+        self._clock_seq = CounterSequence()
+        self._stall = StallWatch(options.reply_timeout_s, options.stall_timeout_s)
+
+    # what tests and the CLI look at: the spawned process, the bus, whether the ECU was lost
+    pid = property(lambda self: self.endpoint.pid)
+    process = property(lambda self: self.endpoint.process)
+    bus = property(lambda self: self.endpoint.bus)
+    lost = property(lambda self: self.endpoint.lost)
+
+    def start(self) -> None:
+        self.endpoint.join(first_frame_joins=False)
+
+    def pace(self, cycle: int) -> None:
+        pass
+
+    def send(self, t_s: float, cycle: int, frames: list[can.Message]) -> list[can.Message]:
+        """Send ``frames``, then ``SimClock``; returns ``[SimClock]``."""
+        endpoint = self.endpoint
+        for msg in frames:
+            endpoint.send(msg, t_s)
+        clock = encode("SimClock", {"SimTimeMs": int(round(t_s * 1000.0))}, self._clock_seq.next())
+        endpoint.send(clock, t_s)
+        return [clock]
+
+    def collect(self, t_s: float, cycle: int) -> list[can.Message]:
+        """Wait (bounded) for this cycle's reply, then take anything else already there."""
+        endpoint, received = self.endpoint, []
+        if endpoint.lost:
+            return endpoint.drain(t_s, received)
+        wanted = {OVERRIDE_ID}
+        if self._status_period is not None and cycle % self._status_period == 0:
+            wanted.add(STATUS_ID)
+        # without a peer count the first reply wait is the join wait
+        first = cycle == 0 and endpoint.peers is None
+        wait_s = self.options.join_timeout_s if first else self.options.stall_timeout_s
+        started = time.monotonic()
+        deadline = started + wait_s
+        while wanted and not endpoint.lost:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0.0:
+                raise self._stall.expired(t_s, time.monotonic() - started, endpoint.who())
+            msg = endpoint.recv(remaining, t_s)
+            if msg is not None:
+                received.append(msg)
+                wanted.discard(msg.arbitration_id)
+        if not first:
+            self._stall.waited(t_s, time.monotonic() - started, endpoint.events)
+        return endpoint.drain(t_s, received)  # e.g. a second ECU's frames
+
+    def report(self) -> LinkReport:
+        return LinkReport(ecu_report=self.endpoint.ecu_report, join_wait_s=self.endpoint.join_wait_s)
+
+    def close(self) -> None:
+        self.endpoint.close()
