@@ -18,8 +18,6 @@ import importlib
 import logging
 import sys
 
-from ..errors import interrupt_signal
-
 #: subcommand name -> module that implements it (imported on demand).
 SUBCOMMANDS: dict[str, str] = {
     "dbc": "can_dbc.cli",
@@ -92,6 +90,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return int(args.func(args) or 0)
     except KeyboardInterrupt as exc:  # SIGINT, or SIGTERM under cosim.cli.signals: 130 / 143
+        from ..errors import interrupt_signal  # here: importing it early would import python-can first
         print(f"interrupted: {exc}" if str(exc) else "interrupted", file=sys.stderr)
         return 128 + interrupt_signal(exc)
     except Exception as exc:  # noqa: BLE001 - the CLI boundary turns every error into one line
