@@ -2,12 +2,12 @@
 
 Each cycle the master sends its frames, then ``SimClock`` (``SimTimeMs =
 round(t * 1000)``); the ECU (``crd ecu --sim-time``) runs one cycle on it,
-after the frames before it, and the master waits up to ``reply_timeout_s``
+after the frames before it, and the master waits up to ``stall_timeout_s``
 (wall time) for that cycle's ``SafetyOverride`` (and, for a spawned ECU, the
 ``EcuStatus`` due in that cycle) before it advances. The ECU sees the same
 frames at the same cycle times as in process, so metrics and time series are
-identical. A silent ECU is a stall (:mod:`cosim.link.stall`): the master
-waits up to ``stall_timeout_s``, simulated time held, then stops the run with
+identical. A silent ECU is a stall (:mod:`cosim.link.stall`): simulated time
+is held while the master waits; past ``stall_timeout_s`` it stops the run with
 :class:`~cosim.errors.EcuStallError`; a wait over ``reply_timeout_s`` is
 recorded as an ``ecu_stall`` event.
 """
