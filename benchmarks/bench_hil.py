@@ -1,30 +1,43 @@
-"""Figures for the ECU as its own process (issue 6, "Figures").
+"""Figures for the ECU as its own process (issue 6, "Figures"; issue 10 item 4; issue 15 finding 5).
 
-1. The paper scenario (all three strategies) in sim-time lock-step with
+1. Lock-step, quiet and busy: the paper scenario (all three strategies) with
    ``crd ecu --sim-time`` as a separate process (``--ecu process``, on
-   ``crd_pair``): wall time and speed-up over real time (goal >= 30x), next to
-   the in-process run; the wall time includes waiting for the spawned ECU to
-   start and join, which is also shown apart with the speed of the cycles alone.
+   ``crd_pair``), in ``--rounds`` rounds that alternate a quiet run and a run
+   beside two CPU-bound neighbour processes that this script starts and stops
+   by PID. Speed-up over real time = simulated s / wall s of the three runs,
+   with the ECU's start-up and join (``total``) and without (``cycles``);
+   medians over the rounds, and the busy median as a share of the quiet one
+   (goals: quiet >= 60x, busy >= 40 % of quiet). A machine shared with other
+   work is never quiet: the load average and runnable tasks are printed.
 2. Round trip through the transport and the ECU process, on ``crd_pair`` and
    on ``crd_unix``: the master sends a cycle's input frames and ``SimClock``
    and waits for the ``SafetyOverride`` of that cycle (median, p99 over
    ``--round-trips`` cycles). The bare echo round trip of each transport is
    ``benchmarks/bench_transport.py``.
-3. Real time: the co-simulation paced to the wall clock for ``--realtime-s``
+3. Flood memory: ``crd ecu --sim-time`` on ``crd_unix`` receives valid
+   ``WheelSpeeds`` frames at ``--flood-rate`` (12,000/s) for ``--flood-s``
+   (60 s) and no ``SimClock``; its resident memory (``/proc/PID/status``
+   ``VmRSS``) at the start and the end of the flood (goal: growth <= 10 MB).
+4. Real time: the co-simulation paced to the wall clock for ``--realtime-s``
    (default 60 s; an open road, no object, so nothing ends the run early) with
    ``crd ecu`` running ``EcuNode.run`` on ``crd_unix``: cycle lag and jitter
    p50/p99/max of the master and of the ECU (goal: jitter p99 <= 2 ms).
 
-Every ECU process is started and stopped by PID (cosim.link.ecu_process).
+Every process is started and stopped by PID (the ECU through cosim.link.ecu_process).
 
-Run: ``python benchmarks/bench_hil.py [--realtime-s 60] [--round-trips 3000] [--skip-paper]``
+Run: ``python benchmarks/bench_hil.py [--rounds 3] [--round-trips 3000] [--flood-s 60] [--realtime-s 60]``
+(a section runs only when its count or duration is above 0).
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import resource
+import signal
 import statistics
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -40,25 +53,67 @@ from cosim.loop.master import ecu_config, run_scenario
 from cosim.scenarios.loader import load_scenario, scenario_from_dict
 
 STRATEGIES = ("none", "conservative", "tightening")
+NEIGHBOURS = 2
 
 
-def paper_lockstep() -> None:
+def _machine() -> str:
+    with open("/proc/loadavg") as f:
+        fields = f.read().split()
+    return f"load average {fields[0]}, runnable tasks now {fields[3].split('/')[0]} on {os.cpu_count()} cores"
+
+
+def _start_neighbours(count: int) -> list[subprocess.Popen]:
+    return [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(count)]
+
+
+def _stop(procs: list[subprocess.Popen]) -> None:
+    for proc in procs:
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait()
+
+
+def _paper_process_runs(sc, fmu) -> tuple[float, float, float]:
+    """x real time of the three strategies out of process: with start-up and join, cycles alone, and
+    over the CPU time of the master and the ECU processes (what a machine that never made either
+    wait for a core or a wake-up would give)."""
+    sim_s = wall_s = join_s = 0.0
+    cpu0 = time.process_time()
+    children0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    for strategy in STRATEGIES:
+        rec = run_scenario(sc, fmu, strategy, ecu=EcuOptions(mode="process"))
+        if rec.error or [e for e in rec.events if e.kind in ("ecu_lost", "bus_error")]:
+            raise RuntimeError(f"{strategy}: the out-of-process run failed: {rec.error} {rec.events[:3]}")
+        sim_s += rec.metrics.sim_time_s
+        wall_s += rec.metrics.wall_time_s
+        join_s += rec.ecu_join_wait_s
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)  # the ECU processes, reaped by now
+    cpu_s = (time.process_time() - cpu0 + children.ru_utime - children0.ru_utime
+             + children.ru_stime - children0.ru_stime)
+    return sim_s / wall_s, sim_s / (wall_s - join_s), sim_s / cpu_s
+
+
+def lockstep_quiet_and_busy(rounds: int) -> None:
     sc = load_scenario(PAPER_SCENARIO)
     fmu = resolve_fmu(sc)
-    print("1. paper scenario, sim-time lock-step (sim s / wall s = x real time; the process run's wall time"
-          " includes waiting for the spawned ECU to start and join, shown apart)")
-    for strategy in STRATEGIES:
-        line = [f"   {strategy:<13}"]
-        for mode in ("inprocess", "process"):
-            rec = run_scenario(sc, fmu, strategy, ecu=EcuOptions(mode=mode))
-            m = rec.metrics
-            line.append(f"{mode}: {m.sim_time_s:5.2f} s sim in {m.wall_time_s:5.2f} s = "
-                        f"{m.sim_time_s / m.wall_time_s:5.1f}x")
-            if mode == "process":
-                cycles_s = m.wall_time_s - rec.ecu_join_wait_s
-                line.append(f"(interface {EcuOptions(mode=mode).interface}; join {rec.ecu_join_wait_s:4.2f} s,"
-                            f" cycles alone {m.sim_time_s / cycles_s:5.1f}x)")
-        print("  ".join(line))
+    print(f"1. paper scenario, lock-step, ECU out of process (crd_pair), {rounds} rounds alternating quiet and "
+          f"{NEIGHBOURS} CPU-bound neighbours; x real time = sim s / wall s of the three runs")
+    results: dict[str, list[tuple[float, ...]]] = {"quiet": [], "busy": []}
+    for k in range(rounds):
+        for label in ("quiet", "busy"):
+            neighbours = _start_neighbours(NEIGHBOURS if label == "busy" else 0)
+            try:
+                time.sleep(0.2)  # let the neighbours get going
+                machine = _machine()
+                results[label].append(_paper_process_runs(sc, fmu))
+            finally:
+                _stop(neighbours)
+            total, cycles, cpu = results[label][-1]
+            print(f"   round {k + 1} {label:<5}: total {total:5.1f}x  cycles {cycles:5.1f}x  over CPU time "
+                  f"{cpu:5.1f}x   ({machine})")
+    med = {label: tuple(statistics.median(r[i] for r in runs) for i in range(3)) for label, runs in results.items()}
+    for i, what in enumerate(("total (with ECU start-up and join)", "cycles alone", "over CPU time")):
+        print(f"   median {what}: quiet {med['quiet'][i]:5.1f}x, busy {med['busy'][i]:5.1f}x = "
+              f"{100.0 * med['busy'][i] / med['quiet'][i]:3.0f} % of quiet")
 
 
 def _pct(values: list[float], q: float) -> float:
@@ -74,11 +129,7 @@ def round_trip(n: int, interface: str) -> None:
     with can.Bus(interface=interface, channel=channel) as bus:
         ecu = EcuProcess(interface, channel, ecu_config(sc, "tightening"), True, workdir)
         try:
-            deadline = time.monotonic() + 10.0
-            while bus.peer_count < 1:
-                if time.monotonic() > deadline:
-                    raise RuntimeError(f"crd ecu did not join: {ecu.output()}")
-                time.sleep(0.01)
+            _wait_join(bus, ecu)
             seqs = {name: CounterSequence() for name in ("DriverInput", "WheelSpeeds", "SimClock")}
             for k in range(n):
                 frames = [encode("DriverInput", {"AccelPedal": 100.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0},
@@ -110,7 +161,7 @@ def realtime(duration_s: float) -> None:
     fmu = resolve_fmu(sc)
     rec = run_scenario(sc, fmu, "tightening", ecu=EcuOptions(mode="process", realtime=True))
     t = rec.timing
-    print(f"3. real time, {rec.metrics.sim_time_s:.1f} s sim in {rec.metrics.wall_time_s:.1f} s wall; events "
+    print(f"4. real time, {rec.metrics.sim_time_s:.1f} s sim in {rec.metrics.wall_time_s:.1f} s wall; events "
           f"{[e.kind for e in rec.events] or 'none'}")
     print(f"   master cycle lag p50 {t['lag_p50_s'] * 1e3:.3f} p99 {t['lag_p99_s'] * 1e3:.3f} max "
           f"{t['lag_max_s'] * 1e3:.3f} ms; jitter p50 {t['jitter_p50_s'] * 1e3:.3f} p99 "
@@ -118,18 +169,67 @@ def realtime(duration_s: float) -> None:
     print(f"   ECU process: {rec.ecu_report.splitlines()[-1] if rec.ecu_report else '(no report)'}")
 
 
+def _rss_kb(pid: int) -> int:
+    with open(f"/proc/{pid}/status") as f:
+        return next(int(line.split()[1]) for line in f if line.startswith("VmRSS:"))
+
+
+def flood_memory(duration_s: float, rate_hz: float) -> None:
+    """``crd ecu --sim-time`` under a flood of valid frames and no SimClock: its RSS growth."""
+    workdir = Path(tempfile.mkdtemp(prefix="crd-bench-"))
+    channel = str(workdir / "can.sock")
+    with can.Bus(interface="crd_unix", channel=channel) as bus:
+        ecu = EcuProcess("crd_unix", channel, ecu_config(load_scenario(PAPER_SCENARIO), "tightening"), True, workdir)
+        try:
+            _wait_join(bus, ecu)
+            seq = CounterSequence()
+            frames = [encode("WheelSpeeds", {f"WheelSpeed{w}": 50.0 + i for w in ("FL", "FR", "RL", "RR")},
+                             seq.next()) for i in range(60)]
+            time.sleep(1.0)
+            start_kb, peak_kb, sent = _rss_kb(ecu.pid), 0, 0
+            t0 = time.monotonic()
+            while (elapsed := time.monotonic() - t0) < duration_s:
+                while sent < elapsed * rate_hz:
+                    bus.send(frames[sent % 60])
+                    sent += 1
+                peak_kb = max(peak_kb, _rss_kb(ecu.pid))
+                time.sleep(0.005)
+            end_kb = _rss_kb(ecu.pid)
+        finally:
+            ecu.stop()
+    print(f"3. crd ecu --sim-time under a {rate_hz:.0f}/s flood of valid WheelSpeeds, no SimClock, {duration_s:.0f} s "
+          f"({sent} frames): RSS {start_kb / 1024:.1f} MB at the start, {end_kb / 1024:.1f} MB at the end, "
+          f"peak {peak_kb / 1024:.1f} MB: growth {(end_kb - start_kb) / 1024:.1f} MB "
+          f"(peak - start {(peak_kb - start_kb) / 1024:.1f} MB)")
+    print(f"   ECU process: {ecu.output().splitlines()[-1] if ecu.output() else '(no report)'}")
+
+
+def _wait_join(bus: can.BusABC, ecu: EcuProcess) -> None:
+    deadline = time.monotonic() + 10.0
+    while bus.peer_count < 1:
+        if time.monotonic() > deadline or not ecu.alive():
+            raise RuntimeError(f"crd ecu did not join: {ecu.output()}")
+        time.sleep(0.01)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--realtime-s", type=float, default=60.0, help="real-time run length (s)")
+    parser.add_argument("--rounds", type=int, default=3, help="quiet/busy rounds of the lock-step figure")
     parser.add_argument("--round-trips", type=int, default=3000)
-    parser.add_argument("--skip-paper", action="store_true")
+    parser.add_argument("--flood-s", type=float, default=60.0, help="flood length (s)")
+    parser.add_argument("--flood-rate", type=float, default=12_000.0, help="flood frames per second")
+    parser.add_argument("--realtime-s", type=float, default=60.0, help="real-time run length (s)")
     args = parser.parse_args()
-    print(f"machine: {os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}")
-    if not args.skip_paper:
-        paper_lockstep()
-    for interface in ("crd_pair", "crd_unix"):
-        round_trip(args.round_trips, interface)
-    realtime(args.realtime_s)
+    print(f"machine: {_machine()} (shared with other work unless stated)")
+    if args.rounds > 0:
+        lockstep_quiet_and_busy(args.rounds)
+    if args.round_trips > 0:
+        for interface in ("crd_pair", "crd_unix"):
+            round_trip(args.round_trips, interface)
+    if args.flood_s > 0:
+        flood_memory(args.flood_s, args.flood_rate)
+    if args.realtime_s > 0:
+        realtime(args.realtime_s)
 
 
 if __name__ == "__main__":

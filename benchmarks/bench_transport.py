@@ -7,7 +7,8 @@ frames, and the echo throughput with up to ``--window`` frames in flight.
 Transports:
 
 - ``crd_pair``: ours (``can_transport.PairSocketBus``), two processes point to
-  point, no hub (both ends poll 2 ms before blocking);
+  point, no hub (both ends block in poll, after a short learned poll while
+  the machine has a free core; see can_transport/spin.py);
 - ``crd_unix``: ours (``can_transport.UnixSocketBus``), hub in this process;
 - ``remote``: python-can-remote 0.3 (if installed), its server bound to
   127.0.0.1 on an ephemeral port, one ``virtual`` bus per client inside it;

@@ -3,37 +3,41 @@
 A hub owns one Unix-domain stream socket at a filesystem path (the bus's
 *channel*). It runs one selector loop in one thread, so frames from one sender
 are relayed in the order they were sent. It never blocks on a slow reader: each
-participant has an output backlog; past ``max_backlog_records`` the hub drops
-frames for that participant and later tells it how many (``OVERRUN``).
+participant has an output backlog; past ``max_backlog_records`` (default 10,000
+records, 240 kB) the hub drops frames for that participant, counts them
+(``dropped_frames``) and later tells it how many (``OVERRUN``).
 
 Guarantees:
 
 - Unix socket only (``AF_UNIX``), created with mode 0600 (``fchmod`` before
   ``bind``, so there is no window with wider permissions); nothing listens on
   any network address and nothing serves files.
+- Private to its user: a connection from a process of another user
+  (``SO_PEERCRED``) is closed at once and logged.
 - A participant that disconnects without ``BYE`` is announced to the others
   with ``PEER_LOST``; every join and leave is announced with ``PEERS``.
 - When the hub stops (or its process dies) every participant reads end-of-file
   and its bus raises ``can.CanOperationError``.
 
-Run standalone with ``python -m can_transport.hub PATH`` (stops on SIGINT/SIGTERM).
+Run standalone with ``python -m can_transport.hub CHANNEL`` (a name in the
+user's private directory, or a path; stops on SIGINT/SIGTERM).
 """
 
 from __future__ import annotations
 
 import logging
-import os
 import selectors
 import socket
 import threading
 from dataclasses import dataclass, field
 
-from can_transport import wire
+from can_transport import socket_path, wire
+from can_transport.socket_path import SOCKET_BUFFER_BYTES
 
 LOG = logging.getLogger(__name__)
 
-SOCKET_BUFFER_BYTES = 1 << 20
 _READ_CHUNK_BYTES = 1 << 16
+DEFAULT_MAX_BACKLOG_RECORDS = 10_000
 
 
 @dataclass
@@ -56,16 +60,11 @@ class Hub:
         Records queued for one participant before the hub drops frames for it.
     """
 
-    def __init__(self, path: str, max_backlog_records: int = 200_000) -> None:
+    def __init__(self, path: str, max_backlog_records: int = DEFAULT_MAX_BACKLOG_RECORDS) -> None:
         self.path = path
         self._max_backlog_bytes = max_backlog_records * wire.RECORD_SIZE
-        self._listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-        os.fchmod(self._listener.fileno(), 0o600)
-        self._listener.bind(path)
-        os.chmod(path, 0o600)
-        self._inode = os.stat(path).st_ino
-        self._listener.listen(16)
-        self._listener.setblocking(False)
+        self.dropped_frames = 0  # frames not relayed to a participant that did not read (total)
+        self._listener, self._inode = socket_path.listen(path, 16)
         self._wake_r, self._wake_w = socket.socketpair(socket.AF_UNIX)
         self._selector = selectors.DefaultSelector()
         self._selector.register(self._listener, selectors.EVENT_READ, "accept")
@@ -119,6 +118,11 @@ class Hub:
             sock, _ = self._listener.accept()
         except BlockingIOError:
             return
+        if not socket_path.same_user(sock):
+            LOG.warning("%s: refused a participant of uid %d (a bus is private to its user)",
+                        self.path, socket_path.peer_uid(sock))
+            sock.close()
+            return
         sock.setblocking(False)
         sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SOCKET_BUFFER_BYTES)
         participant = _Participant(sock)
@@ -157,6 +161,7 @@ class Hub:
                 continue
             if len(other.outbox) >= self._max_backlog_bytes:
                 other.dropped += 1
+                self.dropped_frames += 1
                 continue
             if other.dropped and len(other.outbox) < self._max_backlog_bytes // 2:
                 other.outbox += wire.pack_control(wire.KIND_OVERRUN, min(other.dropped, 0xFFFFFFFF))
@@ -205,11 +210,7 @@ class Hub:
         self._listener.close()
         self._wake_r.close()
         self._wake_w.close()
-        try:
-            if os.stat(self.path).st_ino == self._inode:
-                os.unlink(self.path)
-        except FileNotFoundError:
-            pass
+        socket_path.unlink_if_ours(self.path, self._inode)
         LOG.info("hub on %s stopped", self.path)
 
 
@@ -219,14 +220,21 @@ def main(argv: list[str] | None = None) -> int:
     import signal
 
     parser = argparse.ArgumentParser(prog="python -m can_transport.hub", description=__doc__.splitlines()[0])
-    parser.add_argument("path", help="socket path, e.g. /tmp/crd-can0.sock (must not be in use)")
+    parser.add_argument("channel", help="a channel name, e.g. can0 (in your private directory), or a socket path")
     parser.add_argument("-v", "--verbose", action="store_true", help="log joins and leaves")
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, format="%(asctime)s %(name)s %(message)s")
-    hub = Hub(args.path)
+    path = socket_path.resolve_channel(args.channel)
+    with socket_path.channel_lock(path):
+        live = socket_path.connect_or_none(path, "a hub")
+        if live is not None:
+            live.close()
+            parser.error(f"{path} is in use: something listens there")
+        socket_path.remove_stale_socket(path)
+        hub = Hub(path)
     signal.signal(signal.SIGTERM, lambda *_: hub.stop(timeout_s=0))
     signal.signal(signal.SIGINT, lambda *_: hub.stop(timeout_s=0))
-    print(f"hub listening on {args.path}", flush=True)
+    print(f"hub listening on {path}", flush=True)
     hub.serve_forever()
     return 0
 

@@ -6,17 +6,28 @@ hops of Python code, about 50 µs each on the development machine); here the
 two participants share one Unix stream socket, and each frame goes straight
 from one to the other. A bus with two nodes needs nothing more: every frame
 one sends reaches the other, in order. A third participant is refused (its
-connection is closed at once and a warning logged): use ``crd_unix`` for more.
+connection is closed when the listener next waits, and a warning logged): use
+``crd_unix`` for more.
 
-The channel is a socket path, as for ``crd_unix``. The first participant
-listens on it (mode 0600, a lock file ``<channel>.lock`` makes concurrent
-starters agree), the second connects. The wire format is ``crd_unix``'s
+The channel is a name or a socket path, as for ``crd_unix``
+(:mod:`can_transport.socket_path`: names live in the user's private 0700
+directory; a non-socket at the path, another user's socket or peer, and a
+symbolic-link lock file are refused). The first participant listens (mode
+0600; the lock ``<channel>.lock`` makes concurrent starters agree and is
+removed after), the second connects. The wire format is ``crd_unix``'s
 (:mod:`can_transport.wire`).
 
-Waiting: ``recv`` first polls the socket without blocking for up to
-``spin_s`` (default 2 ms), then blocks. In lock-step the peer answers within
-a fraction of a millisecond, so neither side pays an OS wake-up; the price is
-up to ``spin_s`` of one core per wait. ``spin_s=0`` always blocks.
+Waiting: ``recv`` blocks in ``poll`` on the socket. Before it blocks it may
+poll without blocking for a short, learned time (:class:`~can_transport.spin.
+AdaptiveSpin`, at most ``spin_s``, default 0.5 ms), and only while the machine
+has a core for every runnable task: in lock-step on a quiet machine that saves
+an OS wake-up per wait; on a busy one the bus only blocks, so it never takes a
+core from the peer it waits for. ``spin_s=0`` always blocks.
+
+Bounded: at most ``max_queue_frames`` (default 10,000, about 3 MB) received
+frames wait for ``recv``; more are dropped and counted (``dropped_frames``), and
+the next ``recv`` that finds the queue empty raises ``can.CanOperationError``
+once for them.
 
 Errors are python-can's: ``send`` with no peer connected, a peer that left
 (``BYE``) or whose process died (end of file without ``BYE``) raise
@@ -27,7 +38,6 @@ the frames already received, ``recv``); ``peer_count`` is then 0.
 from __future__ import annotations
 
 import collections
-import fcntl
 import logging
 import os
 import select
@@ -37,14 +47,15 @@ from typing import Any, Literal
 
 import can
 
-from can_transport import wire
-from can_transport.hub import SOCKET_BUFFER_BYTES
-from can_transport.socket_path import check_path, connect_or_none
+from can_transport import socket_path, wire
+from can_transport.spin import AdaptiveSpin
 
 LOG = logging.getLogger(__name__)
 
 _READ_CHUNK_BYTES = 1 << 16
-DEFAULT_SPIN_S = 0.002
+DEFAULT_SPIN_S = 0.0005
+DEFAULT_MAX_QUEUE_FRAMES = 10_000
+_POLLIN = select.POLLIN | select.POLLHUP | select.POLLERR
 
 
 class PairSocketBus(can.BusABC):
@@ -53,7 +64,7 @@ class PairSocketBus(can.BusABC):
     Parameters
     ----------
     channel : str
-        Path of the socket file.
+        A channel name (a socket in the user's private directory) or a socket path.
     can_filters : list of dict, optional
         python-can filters, applied in software.
     receive_own_messages : bool
@@ -61,71 +72,78 @@ class PairSocketBus(can.BusABC):
     role : {"auto", "connect"}
         Listen when nobody does yet (``auto``), or only connect.
     spin_s : float
-        How long ``recv`` polls without blocking before it blocks, in seconds.
+        The longest ``recv`` polls without blocking before it blocks, in seconds (0: always block).
     send_timeout_s : float
         Bound on a blocked ``send`` when its ``timeout`` is ``None``, in seconds.
+    max_queue_frames : int
+        Received frames kept for ``recv``; more are dropped and counted.
     """
 
     def __init__(self, channel: str, can_filters: Any = None, receive_own_messages: bool = False,
                  role: Literal["auto", "connect"] = "auto", spin_s: float = DEFAULT_SPIN_S,
-                 send_timeout_s: float = 5.0, **kwargs: Any) -> None:
-        path = os.fspath(channel)
-        check_path(path)
+                 send_timeout_s: float = 5.0, max_queue_frames: int = DEFAULT_MAX_QUEUE_FRAMES,
+                 **kwargs: Any) -> None:
+        path = socket_path.resolve_channel(channel)
         if role not in ("auto", "connect"):
             raise can.CanInitializationError(f"role must be 'auto' or 'connect', got {role!r}")
         if not spin_s >= 0.0:
             raise can.CanInitializationError(f"spin_s must be >= 0 s, got {spin_s!r}")
+        if not (isinstance(max_queue_frames, int) and max_queue_frames >= 1):
+            raise can.CanInitializationError(f"max_queue_frames must be an integer >= 1, got {max_queue_frames!r}")
         self.channel = path
         self.channel_info = f"crd_pair {path}"
         self._receive_own = receive_own_messages
-        self._spin_s = float(spin_s)
         self._send_timeout_s = send_timeout_s
+        self._max_queue = max_queue_frames
         self._queue: collections.deque[can.Message] = collections.deque()
         self._rx_buffer = bytearray()
+        self.dropped_frames = 0  # received frames dropped because the queue was full (total)
+        self._unreported_drops = 0
         self._gone: str | None = None  # why the peer is no longer there
         self._listener: socket.socket | None = None
         self._inode = 0
-        self._peer: socket.socket | None = _connect(path)
-        if self._peer is None:
+        self._poller = select.poll()
+        self._spin = AdaptiveSpin(float(spin_s))
+        self._peer: socket.socket | None = None
+        peer = _connect(path)
+        if peer is None:
             if role == "connect":
                 raise can.CanInitializationError(f"expected a crd_pair peer listening on {path}, found none")
-            self._peer = self._listen_or_connect(path)
+            peer = self._listen_or_connect(path)
+        if peer is not None:
+            self._attach(peer)
         super().__init__(channel=path, can_filters=can_filters, **kwargs)
 
     # -- set-up ----------------------------------------------------------------
     def _listen_or_connect(self, path: str) -> socket.socket | None:
-        lock_fd = os.open(path + ".lock", os.O_CREAT | os.O_RDWR, 0o600)
-        try:
-            fcntl.flock(lock_fd, fcntl.LOCK_EX)
+        with socket_path.channel_lock(path):
             peer = _connect(path)
             if peer is not None:
                 return peer
-            if os.path.lexists(path):
-                LOG.info("removing stale socket %s", path)
-                os.unlink(path)
-            listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-            os.fchmod(listener.fileno(), 0o600)
-            listener.bind(path)
-            listener.listen(4)
-            listener.setblocking(False)
-            self._listener, self._inode = listener, os.stat(path).st_ino
+            socket_path.remove_stale_socket(path)
+            self._listener, self._inode = socket_path.listen(path, 4)
+            self._poller.register(self._listener, select.POLLIN)
             return None
-        finally:
-            os.close(lock_fd)
+
+    def _attach(self, sock: socket.socket) -> None:
+        self._peer = sock
+        self._poller.register(sock, _POLLIN)
 
     def _accept(self) -> None:
-        """Take a waiting connection: the peer if there is none yet, otherwise refuse it."""
+        """Take waiting connections: the peer if there is none yet (of this user); refuse the rest."""
         listener = self._listener
-        if listener is None:
-            return
-        while True:
+        while listener is not None:
             try:
                 sock, _ = listener.accept()
-            except (BlockingIOError, OSError):
+            except OSError:  # BlockingIOError: nobody waiting
                 return
-            if self._peer is None and self._gone is None:
+            if not socket_path.same_user(sock):
+                LOG.warning("%s: refused a participant of uid %d (a bus is private to its user)",
+                            self.channel, socket_path.peer_uid(sock))
+                sock.close()
+            elif self._peer is None and self._gone is None:
                 _tune(sock)
-                self._peer = sock
+                self._attach(sock)
                 LOG.info("peer joined %s", self.channel)
             else:
                 LOG.warning("%s: refused a third participant (crd_pair joins exactly two; use crd_unix)",
@@ -135,57 +153,84 @@ class PairSocketBus(can.BusABC):
     @property
     def peer_count(self) -> int:
         """1 while the other participant is connected, else 0."""
-        self._accept()
-        if self._peer is not None and self._gone is None:
-            self._read(block_s=0.0)
+        self._poll(0)
         return 1 if self._peer is not None and self._gone is None else 0
 
     # -- python-can -----------------------------------------------------------------
     def send(self, msg: can.Message, timeout: float | None = None) -> None:
         """Send ``msg`` to the peer; raise ``can.CanOperationError`` if there is none."""
+        if self._gone is not None or self._peer is None or self._is_shutdown:
+            self._cannot_send()
+        stamp = time.time()
+        record = wire.pack_frame(msg, stamp)
+        try:
+            sent = self._peer.send(record)
+        except BlockingIOError:
+            sent = 0
+        except OSError as exc:
+            self._lost(f"send failed: {exc}")
+            raise can.CanOperationError(self._gone) from exc
+        if sent < wire.RECORD_SIZE:
+            self._write(record, sent, self._send_timeout_s if timeout is None else timeout)
+        if self._receive_own:
+            self._queue.append(wire.own_message(msg, stamp, self.channel))
+
+    def _cannot_send(self) -> None:
         if self._is_shutdown:
             raise can.CanOperationError(f"bus on {self.channel} is shut down")
-        self._accept()
+        self._poll(0)
         if self._gone is not None:
             raise can.CanOperationError(self._gone)
         if self._peer is None:
             raise can.CanOperationError(f"no peer on {self.channel} yet: a frame needs a receiver")
-        stamp = time.time()
-        self._write(wire.pack_frame(msg, stamp), self._send_timeout_s if timeout is None else timeout)
-        if self._receive_own:
-            self._queue.append(can.Message(
-                timestamp=stamp, arbitration_id=msg.arbitration_id, is_extended_id=msg.is_extended_id,
-                is_remote_frame=msg.is_remote_frame, is_error_frame=msg.is_error_frame, dlc=msg.dlc,
-                data=msg.data, channel=self.channel, is_rx=False, check=False))
 
     def _recv_internal(self, timeout: float | None) -> tuple[can.Message | None, bool]:
-        now = time.monotonic()
-        deadline = None if timeout is None else now + timeout
-        spin_until = now + (self._spin_s if timeout is None else min(self._spin_s, timeout))
-        while True:
-            if self._queue:
-                return self._queue.popleft(), False
-            if self._gone is not None:
-                raise can.CanOperationError(self._gone)
-            now = time.monotonic()
-            if deadline is not None and now >= deadline and timeout != 0.0:
+        queue = self._queue
+        if not queue:
+            self._poll(0)
+            if not queue and timeout != 0.0:
+                self._wait(timeout)
+            if not queue:
+                self._raise_pending()
                 return None, False
-            if now < spin_until or timeout == 0.0:
-                if self._peer is None:
-                    self._accept()
-                self._read(block_s=0.0)
-                if timeout == 0.0 and not self._queue:
-                    if self._gone is not None:
-                        raise can.CanOperationError(self._gone)
-                    return None, False
-                continue
-            self._read(block_s=None if deadline is None else max(0.0, deadline - now))
+        return queue.popleft(), False
+
+    def _wait(self, timeout: float | None) -> None:
+        """Wait until a frame is queued, the peer is gone, or ``timeout`` (None: no bound) passes."""
+        clock = time.monotonic
+        start = clock()
+        deadline = None if timeout is None else start + timeout
+        spin_end = start + self._spin.budget_s(start)
+        if deadline is not None and deadline < spin_end:
+            spin_end = deadline
+        queue = self._queue
+        while not queue and self._gone is None and not self._unreported_drops:
+            now = clock()
+            if now < spin_end:
+                self._poll(0)
+            elif deadline is None:
+                self._poll(None)
+            elif now < deadline:
+                self._poll((deadline - now) * 1000.0)
+            else:
+                break
+        if self._gone is None:
+            self._spin.waited(clock() - start)
+
+    def _raise_pending(self) -> None:
+        if self._unreported_drops:
+            dropped, self._unreported_drops = self._unreported_drops, 0
+            raise can.CanOperationError(f"{self.channel}: dropped {dropped} received frames: more than "
+                                        f"{self._max_queue} queued unread")
+        if self._gone is not None:
+            raise can.CanOperationError(self._gone)
 
     def shutdown(self) -> None:
         """Say BYE, close the socket and remove the socket file if this bus listened. Idempotent."""
         if self._is_shutdown:
             return
         super().shutdown()
+        self._spin.close()
         if self._peer is not None:
             try:
                 self._peer.send(wire.pack_control(wire.KIND_BYE))
@@ -194,25 +239,19 @@ class PairSocketBus(can.BusABC):
             self._peer.close()
         if self._listener is not None:
             self._listener.close()
-            try:
-                if os.stat(self.channel).st_ino == self._inode:
-                    os.unlink(self.channel)
-            except FileNotFoundError:
-                pass
+            socket_path.unlink_if_ours(self.channel, self._inode)
 
     # -- the socket ----------------------------------------------------------------
-    def _read(self, block_s: float | None) -> None:
-        """Read what the peer sent; wait up to ``block_s`` (None: no bound) for it or a connection."""
-        sock = self._peer
-        if sock is None:
-            if block_s != 0.0 and self._listener is not None:
-                select.select([self._listener], [], [], block_s)
+    def _poll(self, timeout_ms: float | None) -> None:
+        """Wait up to ``timeout_ms`` (0: not at all, None: no bound) and take what the sockets hold."""
+        for fd, _events in self._poller.poll(timeout_ms):
+            if self._peer is not None and fd == self._peer.fileno():
+                self._read()
+            else:
                 self._accept()
-            return
-        if block_s != 0.0:
-            readable, _, _ = select.select([sock], [], [], block_s)
-            if not readable:
-                return
+
+    def _read(self) -> None:
+        sock = self._peer
         try:
             chunk = sock.recv(_READ_CHUNK_BYTES)
         except BlockingIOError:
@@ -224,26 +263,52 @@ class PairSocketBus(can.BusABC):
             self._lost("the peer's connection ended without BYE (its process died?)")
             return
         buffer = self._rx_buffer
-        buffer += chunk
-        whole = len(buffer) - len(buffer) % wire.RECORD_SIZE
-        for offset in range(0, whole, wire.RECORD_SIZE):
-            record = wire.unpack(buffer, offset)
-            if record.kind == wire.KIND_FRAME:
-                self._queue.append(wire.to_message(record, self.channel))
-            elif record.kind == wire.KIND_BYE:
-                self._gone = f"bus {self.channel}: the peer left (BYE)"
-        del buffer[:whole]
+        if buffer or len(chunk) % wire.RECORD_SIZE:
+            buffer += chunk
+            whole = len(buffer) - len(buffer) % wire.RECORD_SIZE
+            chunk = bytes(buffer[:whole])
+            del buffer[:whole]
+        self._take(chunk)
+
+    def _take(self, records: bytes) -> None:
+        """Queue the frames of whole ``records`` (dropping past the bound); note a BYE."""
+        queue, channel, limit = self._queue, self.channel, self._max_queue
+        for fields in wire.RECORD.iter_unpack(records):
+            kind = fields[2]
+            if kind == wire.KIND_FRAME:
+                if len(queue) < limit:
+                    queue.append(wire.message_from_fields(fields, channel))
+                else:
+                    self.dropped_frames += 1
+                    self._unreported_drops += 1
+            elif kind == wire.KIND_BYE:
+                self._gone = f"bus {channel}: the peer left (BYE)"
+                self._forget_peer()
 
     def _lost(self, reason: str) -> None:
         if self._gone is None:
             self._gone = f"bus {self.channel} lost: {reason}"
             LOG.warning("%s", self._gone)
+        self._forget_peer()
 
-    def _write(self, record: bytes, timeout_s: float) -> None:
+    def _forget_peer(self) -> None:
+        """Stop polling a peer that is gone (its end-of-file would wake every poll)."""
+        if self._peer is not None:
+            try:
+                self._poller.unregister(self._peer)
+            except (KeyError, ValueError):
+                pass
+
+    def _write(self, record: bytes, sent: int, timeout_s: float) -> None:
+        """Finish sending ``record`` (``sent`` bytes are out), waiting up to ``timeout_s``."""
         sock = self._peer
-        view = memoryview(record)
+        view = memoryview(record)[sent:]
         deadline = time.monotonic() + timeout_s
         while view:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0.0 or not select.select([], [sock], [], remaining)[1]:
+                raise can.CanOperationError(
+                    f"send timed out: expected the peer to take a frame within {timeout_s} s, it did not")
             try:
                 view = view[sock.send(view):]
             except BlockingIOError:
@@ -251,21 +316,16 @@ class PairSocketBus(can.BusABC):
             except OSError as exc:
                 self._lost(f"send failed: {exc}")
                 raise can.CanOperationError(self._gone) from exc
-            if view:
-                remaining = deadline - time.monotonic()
-                if remaining <= 0.0 or not select.select([], [sock], [], remaining)[1]:
-                    raise can.CanOperationError(
-                        f"send timed out: expected the peer to take a frame within {timeout_s} s, it did not")
 
 
 def _tune(sock: socket.socket) -> None:
-    sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SOCKET_BUFFER_BYTES)
-    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, SOCKET_BUFFER_BYTES)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, socket_path.SOCKET_BUFFER_BYTES)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, socket_path.SOCKET_BUFFER_BYTES)
     sock.setblocking(False)
 
 
 def _connect(path: str) -> socket.socket | None:
-    sock = connect_or_none(path, "a crd_pair peer")
+    sock = socket_path.connect_or_none(path, "a crd_pair peer")
     if sock is not None:
         _tune(sock)
     return sock

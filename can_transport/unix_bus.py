@@ -2,16 +2,18 @@
 
 It behaves like python-can's ``virtual`` bus, but across processes of one
 machine: every frame one participant sends is delivered to every other
-participant on the same channel, in the order it was sent. The channel is the
-filesystem path of the hub's socket, e.g. ``/tmp/crd-can0.sock`` (at most 107
-bytes; put it in a directory only you can write to if the machine is shared).
+participant on the same channel, in the order it was sent. The channel is a
+name, e.g. ``can0``, for a socket in the user's private 0700 directory, or the
+filesystem path of the hub's socket (at most 107 bytes); see
+:mod:`can_transport.socket_path` for what is refused (a non-socket at the
+path, another user's socket or hub, a symbolic-link lock file).
 
 Hub lifecycle (``hub=``):
 
 - ``"auto"`` (default): connect to the hub at ``channel``; if none is alive,
   start one in a daemon thread of *this* process (a lock file
-  ``<channel>.lock`` makes concurrent starters agree on one hub; a stale socket
-  file left by a dead hub is removed). That hub stops when this bus shuts down
+  ``<channel>.lock``, removed after, makes concurrent starters agree on one
+  hub; a stale socket of this user left by a dead hub is removed). That hub stops when this bus shuts down
   or this process dies, and every other participant then gets a bus error:
   like unplugging the harness. Open the longest-lived participant first.
 - ``"connect"``: only connect; raise ``can.CanInitializationError`` if no hub
@@ -21,7 +23,10 @@ Errors are python-can's: a hub that dies makes every later ``send``/``recv``
 raise ``can.CanOperationError`` (after the frames already received); a peer
 whose process dies (disconnects without ``shutdown()``) is reported once as a
 ``can.CanOperationError`` on this bus's next ``send`` or ``recv``; so are frames
-dropped because this bus did not read them. Nothing ever waits without a bound
+dropped because this bus did not read them: at most ``max_queue_frames``
+(default 10,000, about 3 MB) wait for ``recv`` here, and at most 10,000 records
+in the hub; more are dropped and counted (``dropped_frames``, the hub's
+``OVERRUN`` counts included). Nothing ever waits without a bound
 unless asked to: ``recv(timeout=None)`` waits for a frame or an error, and
 ``send`` waits at most ``timeout`` (``None`` means ``send_timeout_s``).
 
@@ -32,9 +37,7 @@ Filters are python-can's software filters (``BusABC.recv`` applies them, as
 from __future__ import annotations
 
 import collections
-import fcntl
 import logging
-import os
 import select
 import socket
 import threading
@@ -44,13 +47,14 @@ from typing import Any, Literal
 
 import can
 
-from can_transport import wire
+from can_transport import socket_path, wire
 from can_transport.hub import Hub
-from can_transport.socket_path import check_path, connect_or_none
+from can_transport.socket_path import connect_or_none
 
 LOG = logging.getLogger(__name__)
 
 _READ_CHUNK_BYTES = 1 << 16
+DEFAULT_MAX_QUEUE_FRAMES = 10_000
 
 
 @dataclass(frozen=True)
@@ -67,7 +71,7 @@ class UnixSocketBus(can.BusABC):
     Parameters
     ----------
     channel : str
-        Path of the hub's socket file.
+        A channel name (a socket in the user's private directory) or the path of the hub's socket.
     can_filters : list of dict, optional
         python-can filters, applied in software.
     receive_own_messages : bool
@@ -82,9 +86,10 @@ class UnixSocketBus(can.BusABC):
 
     def __init__(self, channel: str, can_filters: Any = None, receive_own_messages: bool = False,
                  hub: Literal["auto", "connect"] = "auto", send_timeout_s: float = 5.0,
-                 max_queue_frames: int = 200_000, **kwargs: Any) -> None:
-        path = os.fspath(channel)
-        check_path(path)
+                 max_queue_frames: int = DEFAULT_MAX_QUEUE_FRAMES, **kwargs: Any) -> None:
+        path = socket_path.resolve_channel(channel)
+        if not (isinstance(max_queue_frames, int) and max_queue_frames >= 1):
+            raise can.CanInitializationError(f"max_queue_frames must be an integer >= 1, got {max_queue_frames!r}")
         self._sock, self._hub = _open_channel(path, hub)
         self.channel = path
         self.channel_info = f"crd_unix hub {path}"
@@ -95,6 +100,7 @@ class UnixSocketBus(can.BusABC):
         self._queue: collections.deque[can.Message | _BusFault] = collections.deque()
         self._queued_faults = 0
         self._dropped = 0
+        self.dropped_frames = 0  # frames lost to this bus, here or in the hub (total)
         self._broken: str | None = None
         self._peer_count = 0
         self._rx_lock = threading.Lock()
@@ -223,6 +229,7 @@ class UnixSocketBus(can.BusABC):
             elif record.kind == wire.KIND_PEER_LOST:
                 self._fault(f"a participant on {self.channel} disconnected without shutting down (process died?)")
             elif record.kind == wire.KIND_OVERRUN:
+                self.dropped_frames += record.arbitration_id
                 self._fault(f"hub dropped {record.arbitration_id} frames for this bus: it did not read fast enough")
         del buffer[:whole]
         if self._dropped:
@@ -232,6 +239,7 @@ class UnixSocketBus(can.BusABC):
     def _enqueue(self, msg: can.Message) -> None:
         if len(self._queue) >= self._max_queue:
             self._dropped += 1
+            self.dropped_frames += 1
         else:
             self._queue.append(msg)
 
@@ -263,20 +271,14 @@ def _open_channel(path: str, hub_mode: str) -> tuple[socket.socket, Hub | None]:
     if hub_mode == "connect":
         raise can.CanInitializationError(
             f"expected a hub listening on {path}, found none (start one: python -m can_transport.hub {path})")
-    lock_fd = os.open(path + ".lock", os.O_CREAT | os.O_RDWR, 0o600)
-    try:
-        fcntl.flock(lock_fd, fcntl.LOCK_EX)
+    with socket_path.channel_lock(path):
         sock = connect_or_none(path, "the hub")
         if sock is not None:
             return sock, None
-        if os.path.lexists(path):
-            LOG.info("removing stale hub socket %s", path)
-            os.unlink(path)
+        socket_path.remove_stale_socket(path)
         hub = Hub(path).start()
         sock = connect_or_none(path, "the hub")
         if sock is None:
             hub.stop()
             raise can.CanInitializationError(f"started a hub on {path} but could not connect to it")
         return sock, hub
-    finally:
-        os.close(lock_fd)

@@ -85,17 +85,30 @@ def unpack(buffer: bytes | bytearray | memoryview, offset: int = 0) -> Record:
 
 def to_message(record: Record, channel: str) -> can.Message:
     """Turn a FRAME record into a received ``can.Message``."""
-    flags = record.flags
+    return message_from_fields(record, channel)
+
+
+def message_from_fields(fields: tuple, channel: str) -> can.Message:
+    """A received ``can.Message`` from the fields of a FRAME record (``RECORD.iter_unpack`` gives them)."""
+    timestamp_s, arbitration_id, _kind, flags, dlc, data = fields
     remote = bool(flags & _FLAG_REMOTE)
     return can.Message(
-        timestamp=record.timestamp_s,
-        arbitration_id=record.arbitration_id,
+        timestamp=timestamp_s,
+        arbitration_id=arbitration_id,
         is_extended_id=bool(flags & _FLAG_EXTENDED),
         is_remote_frame=remote,
         is_error_frame=bool(flags & _FLAG_ERROR),
-        dlc=record.dlc,
-        data=None if remote else record.data[: record.dlc],
+        dlc=dlc,
+        data=None if remote else data[:dlc],
         channel=channel,
         is_rx=True,
         check=False,
     )
+
+
+def own_message(msg: can.Message, timestamp_s: float, channel: str) -> can.Message:
+    """The copy of a sent frame that a bus with ``receive_own_messages`` receives (``is_rx=False``)."""
+    return can.Message(
+        timestamp=timestamp_s, arbitration_id=msg.arbitration_id, is_extended_id=msg.is_extended_id,
+        is_remote_frame=msg.is_remote_frame, is_error_frame=msg.is_error_frame, dlc=msg.dlc,
+        data=msg.data, channel=channel, is_rx=False, check=False)

@@ -50,6 +50,17 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
     "driver_max_accel_mps2": (0.0, 20.0, False),
     "proximity_margin_m": (0.0, 250.0, False),
     "contingency_decel_mps2": (0.0, BRAKE_DECEL_MAX_MPS2, False),
+    "contingency_release_ratio": (1.0, 10.0, True),
+    "contingency_release_speed_mps": (0.0, 1000.0, True),
+    "decel_estimate_floor_mps2": (0.0, 15.0, False),
+    "decel_estimate_time_constant_s": _POSITIVE,
+    "decel_filter_time_constant_s": _POSITIVE,
+    "abs_slip_threshold": (0.0, 1.0, False),
+    "abs_slip_cycles": (1, 1000, True),
+    "decel_settle_cycles": (0, 100_000, True),
+    "decel_shortfall_mps2": (0.0, 15.0, False),
+    "driven_axle_load_share": (0.0, 1.0, False),
+    "decel_estimate_min_speed_mps": (0.0, 100.0, True),
     "speed_slope_margin_mps2": (0.0, 50.0, True),
     "brake_memory_s": (0.0, 10.0, True),
     "moving_object_speed_mps": (0.0, 100.0, True),
@@ -69,7 +80,7 @@ _CHOICES: dict[str, tuple[str, ...]] = {
     "strategy": STRATEGIES,
     "driven_axle": tuple(NON_DRIVEN_WHEELS),
 }
-_INTEGERS = {"e2e_invalid_score", "fault_recovery_cycles", "status_period_cycles"}
+_INTEGERS = {"abs_slip_cycles", "decel_settle_cycles", "e2e_invalid_score", "fault_recovery_cycles", "status_period_cycles"}
 
 
 @dataclass(frozen=True, slots=True)

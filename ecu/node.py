@@ -23,7 +23,7 @@ from collections import Counter
 
 import can
 
-from can_dbc import LAYOUTS, CounterSequence, Receiver
+from can_dbc import LAYOUTS, CounterSequence, Frame, Receiver
 
 from .bus_port import INPUT_MESSAGES, SIM_CLOCK, InputLatch, override_message, status_message
 from .config import EcuConfig
@@ -46,7 +46,7 @@ class EcuNode:
         self._override_counter = CounterSequence()
         self._status_counter = CounterSequence()
         self._cycle_index = 0
-        self._pending: list[can.Message] = []
+        self._pending: dict[str, Frame] = {}  # sim time: the latest checked frame of each message
         self.outputs: CoreOutputs | None = None
         self._errors: Counter[str] = Counter()
 
@@ -80,17 +80,25 @@ class EcuNode:
         return self._cycle(t_s)
 
     def on_sim_message(self, msg: can.Message) -> CoreOutputs | None:
-        """Sim-time pacing: buffer ``msg``; a valid ``SimClock`` frame runs one cycle at SimTimeMs."""
+        """Sim-time pacing: check ``msg`` now; a valid ``SimClock`` frame runs one cycle at SimTimeMs.
+
+        A checked input frame waits for the next ``SimClock``, which gives its receive
+        time; only the latest frame of each message waits (the latch keeps only the
+        latest anyway, and the receiver's checks do not depend on time), so a flood
+        between two clocks costs no memory (finding 5 of issue 15).
+        """
         if msg.arbitration_id != SIM_CLOCK_ID or msg.is_extended_id:
-            self._pending.append(msg)
+            frame = self._receiver.receive(msg)
+            if frame is not None:
+                self._pending[frame.name] = frame
             return None
         frame = self._receiver.receive(msg)
         if frame is None:
             return None
         t_s = frame.signals["SimTimeMs"] / 1000.0
-        pending, self._pending = self._pending, []
-        for earlier in pending:
-            self._ingest(earlier, t_s)
+        pending, self._pending = self._pending, {}
+        for earlier in pending.values():
+            self._latch.ingest(earlier, t_s)
         return self._cycle(t_s)
 
     def run(self, stop_event: threading.Event) -> RunReport:

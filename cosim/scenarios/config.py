@@ -15,6 +15,8 @@ from typing import Mapping
 from can_dbc.contract import ECU_CYCLE_S, STRATEGIES, cycle_time_s, timeout_s
 
 OBJECT_TRACK_PERIOD_S = cycle_time_s("ObjectTrack")  # the contract's radar cycle (DBC GenMsgCycleTime 50 ms)
+#: the paper's three strategies; the DBC's ``VAL_`` adds our extension ``adaptive`` (issue 14).
+PAPER_STRATEGIES = ("none", "conservative", "tightening")
 #: ``[scenario] start_time`` default: the start of 2020, UTC. A fixed date keeps the logs'
 #: headers deterministic; any date from 1990 on works (BLF treats earlier ones as unset).
 DEFAULT_START_TIME = "2020-01-01T00:00:00+00:00"

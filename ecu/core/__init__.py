@@ -2,7 +2,9 @@
 
 No I/O, no clock, no logging. Submodules, one concern each: ``speed_estimate``,
 ``stopping_path``, ``strategies`` (driver intent, proximity, tightening),
-``validity``, ``modes``, ``output_gate``; ``step`` ties them together.
+``validity``, ``modes``, ``output_gate``, ``decel_estimate`` (the ``adaptive``
+strategy's estimate of the achievable deceleration, our extension); ``step``
+ties them together.
 """
 
 from .params import STRATEGIES, CoreParams

@@ -4,7 +4,9 @@ Units are SI and named in the field. The three strategies of the paper
 (Johnson 2019, section III) are named exactly ``none``, ``conservative`` and
 ``tightening``; each selects a model-deceleration fraction (0.9, 0.8, 0.9) and
 ``tightening`` additionally enables constraint tightening
-(:mod:`ecu.core.strategies`). The derived fields ``model_decel_mps2`` and
+(:mod:`ecu.core.strategies`). Our extension ``adaptive`` is ``tightening``
+with ``peak_decel_mps2`` replaced, cycle by cycle, by the online estimate of
+the achievable deceleration (:mod:`ecu.core.decel_estimate`). The derived fields ``model_decel_mps2`` and
 ``tightening_enabled`` are computed once at construction so the cycle does no
 table lookups:
 
@@ -52,9 +54,36 @@ class CoreParams:
     #: constraint tightening: proximity grows from 0 to 1 as the nominal stopping
     #: path's margin to the standoff shrinks from this distance to zero.
     proximity_margin_m: float = 10.0
+    #: a contingency, once invoked, is held until the stopping path is disjoint again with
+    #: this factor on its length: ``standoff + ratio * d <= range`` (1.0: no hysteresis).
+    contingency_release_ratio: float = 1.0
+    #: ... and only once the speed estimate is at or below this (1000: at any speed; a small
+    #: value holds the contingency to standstill, as AEB functions that reset when the car stops).
+    contingency_release_speed_mps: float = 1000.0
     #: deceleration requested by the contingency: full braking, the DBC's full
     #: scale; the brake ECU saturates it at full pressure (ABS then limits slip).
     contingency_decel_mps2: float = BRAKE_DECEL_MAX_MPS2
+    #: ``adaptive`` (our extension, :mod:`ecu.core.decel_estimate`): the estimate never drops below this.
+    decel_estimate_floor_mps2: float = 1.0
+    #: time constant of the estimate's first-order update while there is evidence.
+    decel_estimate_time_constant_s: float = 0.1
+    #: time constant of the filter on the measured deceleration (speed derivative).
+    decel_filter_time_constant_s: float = 0.2
+    #: braking must have been commanded this many cycles before it is evidence: the plant's
+    #: brake dead time 0.1 s + 3 x its 0.12 s build-up, rounded up (fmu_plant/README.md).
+    decel_settle_cycles: int = 50
+    #: share of the car's weight on the driven axle (plant: cg 1.2 m behind the front axle,
+    #: wheelbase 2.7 m, so 1.5/2.7 = 0.56 static; the share falls while accelerating, which
+    #: makes the traction evidence err low, the safe side).
+    driven_axle_load_share: float = 0.56
+    #: settled braking that falls this far short of the request is limited by the road.
+    decel_shortfall_mps2: float = 1.0
+    #: braking slip at or above which a wheel is at its friction limit (ABS regulating).
+    abs_slip_threshold: float = 0.1
+    #: consecutive cycles of such slip before it counts as evidence (debounce).
+    abs_slip_cycles: int = 3
+    #: no evidence is drawn below this estimated speed.
+    decel_estimate_min_speed_mps: float = 3.0
     #: "front", "rear" or "all"; the plant is front-wheel driven.
     driven_axle: str = "front"
     #: allowance on top of the physical limits in the speed estimate's slope limiter.
@@ -87,7 +116,9 @@ class CoreParams:
     fault_recovery_cycles: int = 10
 
     model_decel_mps2: float = field(init=False, repr=False, compare=False)
+    model_decel_fraction: float = field(init=False, repr=False, compare=False)
     tightening_enabled: bool = field(init=False, repr=False, compare=False)
+    adaptive_enabled: bool = field(init=False, repr=False, compare=False)
     strategy_code: int = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -95,11 +126,14 @@ class CoreParams:
             "none": self.none_decel_fraction,
             "conservative": self.conservative_decel_fraction,
             "tightening": self.tightening_decel_fraction,
+            "adaptive": self.tightening_decel_fraction,
         }
         if self.strategy not in fractions:
             raise ValueError(f"strategy: expected one of {sorted(fractions)}, got {self.strategy!r}")
+        object.__setattr__(self, "model_decel_fraction", fractions[self.strategy])
         object.__setattr__(self, "model_decel_mps2", fractions[self.strategy] * self.peak_decel_mps2)
-        object.__setattr__(self, "tightening_enabled", self.strategy == "tightening")
+        object.__setattr__(self, "tightening_enabled", self.strategy in ("tightening", "adaptive"))
+        object.__setattr__(self, "adaptive_enabled", self.strategy == "adaptive")
         object.__setattr__(self, "strategy_code", STRATEGIES[self.strategy])
 
     @property

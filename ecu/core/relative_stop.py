@@ -31,9 +31,14 @@ from __future__ import annotations
 from .params import CoreParams
 
 
-def relative_approach_m(range_rate_mps: float, accel_mps2: float, params: CoreParams) -> float:
-    """How much closer (m, >= 0) the command's stopping path brings us to a constant-speed object."""
-    u, a, t_h, d = -range_rate_mps, accel_mps2, params.hold_time_s, params.model_decel_mps2
+def relative_approach_m(range_rate_mps: float, accel_mps2: float, params: CoreParams,
+                        decel_mps2: float | None = None) -> float:
+    """How much closer (m, >= 0) the command's stopping path brings us to a constant-speed object.
+
+    ``decel_mps2`` overrides D (the ``adaptive`` strategy's estimate).
+    """
+    u, a, t_h = -range_rate_mps, accel_mps2, params.hold_time_s
+    d = params.model_decel_mps2 if decel_mps2 is None else decel_mps2
     u_h = u + a * t_h
     if u_h > 0.0:
         return max(0.0, u * t_h + 0.5 * a * t_h * t_h + u_h * u_h / (2.0 * d))
@@ -58,12 +63,13 @@ def is_moving(speed_mps: float, range_rate_mps: float, params: CoreParams) -> bo
     return speed_mps + range_rate_mps > params.moving_object_speed_mps
 
 
-def moving_proximity(range_m: float, range_rate_mps: float, params: CoreParams) -> float:
+def moving_proximity(range_m: float, range_rate_mps: float, params: CoreParams,
+                     decel_mps2: float | None = None) -> float:
     """Tightening's proximity for a moving object: 0 when even full throttle would not close the gap.
 
     ``m = range - standoff - approach(full throttle)``, ``p = clamp(1 - m / moving_margin_m, 0, 1)``.
     """
-    approach = relative_approach_m(range_rate_mps, params.driver_max_accel_mps2, params)
+    approach = relative_approach_m(range_rate_mps, params.driver_max_accel_mps2, params, decel_mps2)
     if approach <= 0.0:
         return 0.0
     margin = range_m - params.standoff_m - approach

@@ -7,10 +7,14 @@ Order within the cycle:
 2. speed: reference-speed estimate from the wheels if they are valid, else
    held — or dead-reckoned down at the model deceleration while a held
    contingency brakes (:mod:`ecu.core.speed_estimate`);
+   ``adaptive`` only: the achievable-deceleration estimate, from valid wheel
+   speeds only (:mod:`ecu.core.decel_estimate`), sets D for this cycle;
 3. plan: driver intent, proximity and tightening, the stopping path of the
    (tightened) command and its disjointness (:mod:`ecu.core.strategies`,
    :mod:`ecu.core.stopping_path`);
-4. mode: the state machine (:mod:`ecu.core.modes`);
+4. mode: the state machine (:mod:`ecu.core.modes`); a contingency is
+   released only when ``plan.released`` (both hold knobs off by default:
+   ``contingency_release_ratio`` = 1, ``contingency_release_speed_mps`` = 1000);
 5. outputs for the mode, then the output gate (:mod:`ecu.core.output_gate`).
 
 Pure: no I/O, no clock, no logging; the same state and inputs give the same
@@ -22,6 +26,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+from . import decel_estimate
 from .modes import ModeDecision, next_mode, planned_mode
 from .output_gate import gate
 from .params import CoreParams
@@ -45,35 +50,45 @@ class Plan(NamedTuple):
     tightening_restricts: bool
     stopping_distance_m: float
     disjoint: bool
+    #: disjoint with the release margin (``contingency_release_ratio`` >= 1, so released implies
+    #: disjoint) and slow enough: a contingency that was active may end.
+    released: bool
 
 
-def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> Plan:
+def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams,
+               model_decel_mps2: float | None = None) -> Plan:
     """Tighten the driver's command (if the strategy says so) and check its stopping path.
 
     An object outside our path is no object (:mod:`ecu.core.relevance`); a moving one is
-    planned at zero relative speed (:mod:`ecu.core.relative_stop`).
+    planned at zero relative speed (:mod:`ecu.core.relative_stop`). ``model_decel_mps2``
+    overrides the model deceleration D (``adaptive``: fraction x estimate).
     """
     valid = inputs.object_valid and in_path(inputs.object_lateral_m, params)
     if valid and is_moving(speed_mps, inputs.object_range_rate_mps, params):
-        return _plan_moving(inputs, params)
+        return _plan_moving(speed_mps, inputs, params, model_decel_mps2)
     closing_mps = closing_speed_mps(speed_mps, inputs.object_range_rate_mps, params) if valid else 0.0
-    p = proximity(valid, inputs.object_range_m, closing_mps, params)
+    p = proximity(valid, inputs.object_range_m, closing_mps, params, model_decel_mps2)
     tight = tighten(p, params) if params.tightening_enabled else NO_TIGHTENING
     command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), tight.accel_upper_mps2)
-    distance = path_distance_m(speed_mps, command, valid, inputs.object_range_rate_mps, params)
+    distance = path_distance_m(speed_mps, command, valid, inputs.object_range_rate_mps, params, model_decel_mps2)
     return Plan(p, tight.throttle_limit_pct, tight.decel_request_mps2, tight.restricts, distance,
-                is_disjoint(distance, valid, inputs.object_range_m, params))
+                is_disjoint(distance, valid, inputs.object_range_m, params),
+                speed_mps <= params.contingency_release_speed_mps
+                and is_disjoint(distance * params.contingency_release_ratio, valid, inputs.object_range_m, params))
 
 
-def _plan_moving(inputs: CoreInputs, params: CoreParams) -> Plan:
+def _plan_moving(speed_mps: float, inputs: CoreInputs, params: CoreParams,
+                 model_decel_mps2: float | None) -> Plan:
     """:func:`plan_cycle` behind a moving object: relative approach, time-scaled proximity."""
     rate = inputs.object_range_rate_mps
-    p = moving_proximity(inputs.object_range_m, rate, params)
+    p = moving_proximity(inputs.object_range_m, rate, params, model_decel_mps2)
     tight = tighten(p, params) if params.tightening_enabled else NO_TIGHTENING
     command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), tight.accel_upper_mps2)
-    approach = relative_approach_m(rate, command, params)
-    return Plan(p, tight.throttle_limit_pct, tight.decel_request_mps2, tight.restricts, approach,
-                relative_disjoint(approach, inputs.object_range_m, params))
+    approach = relative_approach_m(rate, command, params, model_decel_mps2)
+    disjoint = relative_disjoint(approach, inputs.object_range_m, params)
+    return Plan(p, tight.throttle_limit_pct, tight.decel_request_mps2, tight.restricts, approach, disjoint,
+                speed_mps <= params.contingency_release_speed_mps
+                and relative_disjoint(approach * params.contingency_release_ratio, inputs.object_range_m, params))
 
 
 def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[float, bool, float, int]:
@@ -83,7 +98,10 @@ def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tup
     if not wheel_speeds_valid(inputs, params):
         speed = state.speed_mps
         if state.held_contingency or state.mode == Mode.CONTINGENCY:
-            speed = coast_down_speed_mps(speed, params.model_decel_mps2, params.cycle_s)
+            decel = params.model_decel_mps2  # adaptive: the road's estimate (below the dry value on wet roads)
+            if params.adaptive_enabled:
+                decel = params.model_decel_fraction * decel_estimate.achievable_decel_mps2(state.decel, params)
+            speed = coast_down_speed_mps(speed, decel, params.cycle_s)
         return speed, state.speed_initialised, state.prev_wheel_mean_mps, since_brake
     wheels = inputs.wheel_speeds_mps
     mean = sum(wheels) / 4.0
@@ -93,6 +111,20 @@ def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tup
     )
     speed = update_speed_mps(state.speed_mps, state.speed_initialised, wheels, braking, params)
     return speed, True, mean, since_brake
+
+
+def _next_decel(state: CoreState, inputs: CoreInputs, speed_mps: float,
+                params: CoreParams) -> tuple[decel_estimate.DecelEstimate, float | None]:
+    """``adaptive``: the estimate after this cycle (unchanged without valid wheel speeds: no
+    evidence) and the model deceleration ``fraction * a_hat``; other strategies: (state, None)."""
+    if not params.adaptive_enabled:
+        return state.decel, None
+    estimate = state.decel
+    if state.speed_initialised and wheel_speeds_valid(inputs, params):
+        request = max(state.prev_decel_request_mps2, inputs.brake_pedal * params.peak_decel_mps2)
+        estimate = decel_estimate.update(estimate, state.speed_mps, speed_mps, inputs.wheel_speeds_mps,
+                                         request, params)
+    return estimate, params.model_decel_fraction * decel_estimate.achievable_decel_mps2(estimate, params)
 
 
 def _commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[float, float]:
@@ -116,11 +148,13 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     """Run one cycle; return the next state and the gated outputs."""
     flags = fault_flags(inputs, params)
     speed, initialised, wheel_mean, since_brake = _next_speed(state, inputs, params)
-    plan = plan_cycle(speed, inputs, params)
+    estimate, model_decel = _next_decel(state, inputs, speed, params)
+    plan = plan_cycle(speed, inputs, params, model_decel)
     contingency_active = state.held_contingency or state.mode is _CONTINGENCY or (
         state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
-    decision = next_mode(flags, planned_mode(plan.disjoint, plan.tightening_restricts), state.valid_cycles,
-                         contingency_active, speed <= params.standstill_speed_mps, params)
+    planned = planned_mode(plan.released if state.mode is _CONTINGENCY else plan.disjoint, plan.tightening_restricts)
+    decision = next_mode(flags, planned, state.valid_cycles, contingency_active,
+                         speed <= params.standstill_speed_mps, params)
     throttle, decel = _commands(decision, plan, params)
     gated = gate(decision.mode, throttle, decel)
     if gated.interventions:
@@ -135,6 +169,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
         valid_cycles=decision.valid_cycles,
         held_contingency=decision.held_contingency,
         gate_interventions=state.gate_interventions + gated.interventions,
+        decel=estimate,
     )
     outputs = CoreOutputs(
         mode=gated.mode,

@@ -54,10 +54,12 @@ def path_distance_m(
     object_valid: bool,
     range_rate_mps: float,
     params: CoreParams,
+    decel_mps2: float | None = None,
 ) -> float:
-    """Stopping distance (m) toward the object (own speed when there is none)."""
+    """Stopping distance (m) toward the object (own speed when there is none); ``decel_mps2`` overrides D."""
     v = closing_speed_mps(speed_mps, range_rate_mps, params) if object_valid else max(0.0, speed_mps)
-    return stopping_distance_m(v, accel_mps2, params.hold_time_s, params.model_decel_mps2)
+    d = params.model_decel_mps2 if decel_mps2 is None else decel_mps2
+    return stopping_distance_m(v, accel_mps2, params.hold_time_s, d)
 
 
 def is_disjoint(distance_m: float, object_valid: bool, range_m: float, params: CoreParams) -> bool:

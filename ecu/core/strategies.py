@@ -85,12 +85,16 @@ def driver_accel_mps2(accel_pedal: float, brake_pedal: float, params: CoreParams
     return accel_pedal * params.driver_max_accel_mps2 - brake_pedal * params.peak_decel_mps2
 
 
-def proximity(object_valid: bool, range_m: float, closing_speed_mps: float, params: CoreParams) -> float:
-    """p = clamp(1 - m / proximity_margin_m, 0, 1), m the nominal stopping-path margin (m); 0 without an object."""
+def proximity(object_valid: bool, range_m: float, closing_speed_mps: float, params: CoreParams,
+              decel_mps2: float | None = None) -> float:
+    """p = clamp(1 - m / proximity_margin_m, 0, 1), m the nominal stopping-path margin (m); 0 without an object.
+
+    ``decel_mps2`` overrides the model deceleration D (the ``adaptive`` strategy's estimate).
+    """
     if not object_valid:
         return 0.0
-    nominal_m = stopping_distance_m(closing_speed_mps, params.driver_max_accel_mps2,
-                                    params.hold_time_s, params.model_decel_mps2)
+    nominal_m = stopping_distance_m(closing_speed_mps, params.driver_max_accel_mps2, params.hold_time_s,
+                                    params.model_decel_mps2 if decel_mps2 is None else decel_mps2)
     margin_m = range_m - params.standoff_m - nominal_m
     p = 1.0 - margin_m / params.proximity_margin_m
     return min(1.0, max(0.0, p))

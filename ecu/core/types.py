@@ -19,6 +19,8 @@ from typing import NamedTuple
 
 from can_dbc.contract import MODE_NAMES
 
+from .decel_estimate import DecelEstimate
+
 NEVER_S = -math.inf
 
 #: ``SafetyOverride.Mode`` of the DBC, built from its ``VAL_``: STANDBY, TIGHTENING, CONTINGENCY, FAULT.
@@ -69,6 +71,8 @@ class CoreState(NamedTuple):
     #: a contingency active when the fault began, held while faulted.
     held_contingency: bool = False
     gate_interventions: int = 0
+    #: the ``adaptive`` strategy's estimate of the achievable deceleration (:mod:`ecu.core.decel_estimate`).
+    decel: DecelEstimate = DecelEstimate()
 
 
 class CoreOutputs(NamedTuple):

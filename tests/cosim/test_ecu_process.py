@@ -153,10 +153,12 @@ def test_a_second_ecu_on_the_bus_is_detected_and_not_obeyed(plant_fmu3, sock_dir
     assert not [e for e in rec.events if e.kind == "override_restored"]
 
 
+@pytest.mark.wallclock
 def test_real_time_matches_lock_step_within_tolerance(plant_fmu3):
     """Tolerances: the real-time loop adds up to one cycle of latency (the ECU answers in its own
     next cycle), so final gap within 0.3 m and top speed within 0.2 m/s of lock-step (observed:
-    ~0.01 m and ~0.04 m/s); the ECU must visibly act (top speed below the 'none' run's by 0.5 m/s)."""
+    ~0.01 m and ~0.04 m/s), contingency invocations within one; the ECU must visibly act (top
+    speed below the 'none' run's by 0.5 m/s)."""
     sc = scenario_from_dict(SHORT)
     lock = run_scenario(sc, plant_fmu3, "tightening")
     free = run_scenario(sc, plant_fmu3, "none")
@@ -167,7 +169,8 @@ def test_real_time_matches_lock_step_within_tolerance(plant_fmu3):
     assert rt.metrics.final_gap_m == pytest.approx(lock.metrics.final_gap_m, abs=0.3)
     assert rt.metrics.max_speed_mps == pytest.approx(lock.metrics.max_speed_mps, abs=0.2)
     assert rt.metrics.max_speed_mps < free.metrics.max_speed_mps - 0.5
-    assert rt.metrics.contingency_invocations == lock.metrics.contingency_invocations
+    # a count, on the wall clock: one cycle of latency may add or save one invocation
+    assert abs(rt.metrics.contingency_invocations - lock.metrics.contingency_invocations) <= 1
     assert not [e for e in rt.events if e.kind in ("ecu_lost", "second_ecu")]
     assert set(rt.timing) >= {"lag_p99_s", "jitter_p99_s"} and rt.timing["lag_max_s"] >= rt.timing["lag_p99_s"] >= 0
     assert "real-time:" in rt.ecu_report  # the ECU ran EcuNode.run on the wall clock

@@ -22,5 +22,19 @@ def test_crd_paper_states_every_claim(tmp_path, capsys):
     for n in range(1, 6):
         assert f"claim {n}:" in report
     assert "none, conservative, tightening" in report and "](speed_profiles.png)" in report
-    assert code == (0 if "FAIL" not in out else 3)
-    assert "[FAIL]" not in out, out  # the reproduction's goal: every claim holds
+    gating = [line for line in out.splitlines() if line.startswith("[") and "claim 3s" not in line]
+    assert len(gating) == 5
+    assert code == (0 if not any(line.startswith("[FAIL]") for line in gating) else 3)
+    assert all(line.startswith("[PASS]") for line in gating), out  # the reproduction's goal: claims 1-5 hold
+    # claim 3 judged from the speed trace (issue 14) is reported beside them; not met yet (README)
+    assert "claim 3s (reported, issue 14)" in out
+
+
+@pytest.mark.slow
+def test_crd_paper_with_adaptive_shows_it_beside_the_three(tmp_path, capsys):
+    code = crd(["paper", "--with-adaptive", "--out", str(tmp_path)])
+    out = capsys.readouterr().out
+    runs = {r["strategy"]: r for r in json.loads((tmp_path / "metrics.json").read_text())["runs"]}
+    assert set(runs) == {"none", "conservative", "tightening", "adaptive"}
+    assert not runs["adaptive"]["collided"]
+    assert code == 0 and out.count("[PASS] claim") == 5  # the claims concern the paper's three

@@ -79,7 +79,7 @@ def test_counter_outside_0_14_raises(counter):
 
 def test_undefined_enum_cannot_be_encoded_past_range():
     with pytest.raises(SignalError):
-        encode("EcuStatus", {"Strategy": 3, "Proximity": 0, "StoppingDistance": 0,
+        encode("EcuStatus", {"Strategy": 4, "Proximity": 0, "StoppingDistance": 0,
                              "SpeedEstimate": 0, "FaultWheelSpeedTimeout": 0,
                              "FaultDriverInputTimeout": 0, "FaultObjectTimeout": 0, "FaultE2E": 0,
                              "FaultInternal": 0}, 0)

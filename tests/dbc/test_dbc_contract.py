@@ -34,7 +34,7 @@ def test_enumerations_declared():
         0: "STANDBY", 1: "TIGHTENING", 2: "CONTINGENCY", 3: "FAULT"}
     strategy = DATABASE.get_message_by_name("EcuStatus").get_signal_by_name("Strategy")
     assert {int(k): str(v) for k, v in strategy.choices.items()} == {
-        0: "NONE", 1: "CONSERVATIVE", 2: "TIGHTENING"}
+        0: "NONE", 1: "CONSERVATIVE", 2: "TIGHTENING", 3: "ADAPTIVE"}
 
 
 def test_physical_signals_declare_units():

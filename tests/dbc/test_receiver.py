@@ -85,14 +85,22 @@ def test_range_violation_rejected():
 
 
 def test_undefined_enum_rejected():
-    msg = encode("EcuStatus", {"Strategy": 0, "Proximity": 0, "StoppingDistance": 0,
+    # Every raw value of the 2-bit enumerations is declared since ADAPTIVE (3) joined Strategy, so the
+    # check is exercised on the EcuStatus layout with Strategy declared as before (0..2 only).
+    import dataclasses
+
+    from can_dbc import LAYOUTS
+    from can_dbc.receiver import _decode
+    layout = LAYOUTS["EcuStatus"]
+    table = tuple(row[:9] + (frozenset({0, 1, 2}),) if row[0] == "Strategy" else row for row in layout.unpack_table)
+    old_layout = dataclasses.replace(layout, unpack_table=table)
+    msg = encode("EcuStatus", {"Strategy": 3, "Proximity": 0, "StoppingDistance": 0,
                                "SpeedEstimate": 0, "FaultWheelSpeedTimeout": 0,
                                "FaultDriverInputTimeout": 0, "FaultObjectTimeout": 0, "FaultE2E": 0,
                                "FaultInternal": 0}, 0)
-    # Strategy raw 3 is within the 2-bit field but not declared (and outside the DBC max 2).
-    bad = _resealed(msg, lambda d: d.__setitem__(1, d[1] | 0x30))
-    with pytest.raises((EnumError, RangeError)):
-        Receiver().check(bad)
+    with pytest.raises(EnumError, match="Strategy"):
+        _decode(old_layout, int.from_bytes(msg.data, "little"))
+    assert Receiver().check(msg).signals["Strategy"] == 3  # declared now: accepted
     override = encode("SafetyOverride", {"Mode": 0, "OverrideActive": 0, "ThrottleLimit": 100,
                                          "BrakeDecelRequest": 0}, 0)
     assert Receiver().check(override).signals["Mode"] == 0

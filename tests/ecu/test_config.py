@@ -24,7 +24,7 @@ def test_unknown_key_is_named_with_a_suggestion():
 
 @pytest.mark.parametrize("key,value,pattern", [
     ("peak_decel_mps2", -1.0, r"ecu\.peak_decel_mps2: expected a value in \(0\.0, 15\.0\], got -1\.0"),
-    ("strategy", "fast", r"ecu\.strategy: expected one of \['none', 'conservative', 'tightening'\], got 'fast'"),
+    ("strategy", "fast", r"ecu\.strategy: expected one of \['none', 'conservative', 'tightening', 'adaptive'\], got 'fast'"),
     ("fault_recovery_cycles", 0, r"ecu\.fault_recovery_cycles: expected a value in \[1, 100000\], got 0"),
     ("standoff_m", "2", r"ecu\.standoff_m: expected a number, got '2'"),
 ])

@@ -2,7 +2,8 @@
 
 A new backend is one more entry in ``harness.BACKENDS`` and in ``MODES``;
 the tests do not change. ``process`` runs ``crd ecu`` as a separate OS
-process over the ``crd_unix`` transport.
+process over the ``crd_unix`` transport. The wall-clock backends carry the
+``wallclock`` marker (``pytest -m "not wallclock"`` leaves them out; CI runs them).
 """
 
 from __future__ import annotations
@@ -16,9 +17,11 @@ from ecu import EcuConfig
 from . import harness
 
 MODES = ("lockstep", "realtime", "process")
+#: the backends that run on the wall clock: marked ``wallclock`` (deadlines get the backend's slack)
+WALLCLOCK = ("realtime", "process")
 
 
-@pytest.fixture(params=MODES)
+@pytest.fixture(params=[pytest.param(m, marks=pytest.mark.wallclock) if m in WALLCLOCK else m for m in MODES])
 def mode(request) -> str:
     return request.param
 

@@ -262,11 +262,11 @@ class ProcessBackend(RealTimeBackend):
             super().__init__(config, socket_path,
                              launcher=lambda cfg, ch: EcuProcess("crd_unix", ch, cfg, False, self._dir))
             deadline = time.monotonic() + self.join_timeout_s
-            while self.bus.peer_count < 1:
+            while self.bus.peer_count < 1:  # a condition wait: each recv blocks until a frame or 10 ms
                 if time.monotonic() > deadline or not self._launched.alive():
                     raise RuntimeError(f"expected crd ecu (pid {self._launched.pid}) on {socket_path} within "
                                        f"{self.join_timeout_s} s: {self._launched.output()}")
-                time.sleep(0.01)
+                self.bus.recv(timeout=0.01)
             while self.bus.recv(timeout=0.0) is not None:  # frames from before the harness starts
                 pass
             self._t0 = time.perf_counter()

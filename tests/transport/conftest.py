@@ -8,6 +8,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Callable
 
 import pytest
 
@@ -64,9 +65,18 @@ def processes():
         procs.stop_all()
 
 
+def wait_until(condition: Callable[[], bool], what: str, timeout_s: float = START_TIMEOUT_S) -> None:
+    """Wait until ``condition()`` holds, checking every 10 ms; fail naming ``what`` after ``timeout_s``.
+
+    A condition wait, not a sleep: it returns as soon as the condition holds, and the
+    bound only matters on a machine so busy that the test should fail.
+    """
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        assert time.monotonic() < deadline, f"expected {what} within {timeout_s} s"
+        time.sleep(0.01)
+
+
 def wait_for_peers(bus: UnixSocketBus, count: int, timeout_s: float = START_TIMEOUT_S) -> None:
     """Wait (bounded) until the hub announces ``count`` other participants."""
-    deadline = time.monotonic() + timeout_s
-    while bus.peer_count != count:
-        assert time.monotonic() < deadline, f"expected {count} peers, have {bus.peer_count}"
-        time.sleep(0.01)
+    wait_until(lambda: bus.peer_count == count, f"{count} peers (have {bus.peer_count})", timeout_s)

@@ -16,7 +16,7 @@ TRANSPORT_DIR = Path(can_transport.__file__).parent
 def test_socket_file_is_private(channel: str) -> None:
     with UnixSocketBus(channel):
         assert os.stat(channel).st_mode & 0o777 == 0o600
-        assert os.stat(channel + ".lock").st_mode & 0o777 == 0o600
+        assert not os.path.lexists(channel + ".lock")  # the lock is removed once the hub runs
 
 
 def _socket_inodes_of_this_process() -> set[str]:
