@@ -67,7 +67,8 @@ def test_sigstop_for_2_s_is_waited_out_and_the_run_is_unchanged(plant_fmu3):
         record = loop.run(progress=stop_at_1s)
     finally:
         resume.cancel()
-        os.kill(pid, signal.SIGCONT) if not _gone(pid) else None
+        if not _gone(pid):
+            os.kill(pid, signal.SIGCONT)
     assert stopped and record.error is None and record.status == "ok"
     assert _comparable(record) == _comparable(reference) and record.rows == reference.rows
     kinds = [e.kind for e in record.events]
