@@ -28,6 +28,7 @@ SUBCOMMANDS: dict[str, str] = {
     "matrix": "cosim.cli.matrix",
     "scenarios": "cosim.cli.scenarios",
     "compare": "cosim.cli.compare",
+    "sweep": "cosim.cli.sweep",
 }
 
 

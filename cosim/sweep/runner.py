@@ -1,0 +1,189 @@
+"""Runs a :class:`~cosim.sweep.plan.SweepPlan` on Dask distributed.
+
+By default a ``LocalCluster`` of worker *processes*, one per core, one thread
+each, with the scheduler, the workers and the dashboard bound to 127.0.0.1
+(ports chosen by the OS). ``scheduler`` attaches to an existing scheduler
+instead (``tcp://host:port``), which is how a sweep runs on many machines.
+
+The client reads the plant FMU once and registers a worker plugin carrying its
+bytes (:class:`cosim.sweep.task.FmuShipper`): every worker, including one that
+restarts, caches the file by hash before it takes a run, and the runs name it
+by hash. No run depends on data held by another worker, so none is lost with a
+dead worker and the scheduler places runs on idle workers only. Each run is one
+task returning one row. A task whose worker dies is rescheduled once
+(``distributed.scheduler.allowed-failures = 1`` on the local scheduler; an
+existing scheduler keeps its own setting), then Dask raises ``KilledWorker``
+and the run is recorded as failed. Dask counts a death against every task
+*assigned* to the dying worker, so the client keeps only as many runs in
+flight as the cluster has threads: each worker holds the one run it is
+running, and a crash is counted against that run alone. Rows are handed to the
+:class:`~cosim.sweep.table.ResultsTable` as they complete.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import itertools
+import logging
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Protocol
+
+import dask
+from distributed import Client, LocalCluster, as_completed
+
+from .plan import RunSpec, SweepPlan
+from .table import ResultsTable, write_timeseries
+from .task import FmuShipper, failed_row, run_one
+
+log = logging.getLogger(__name__)
+
+LOCALHOST = "127.0.0.1"
+RETRIES_AFTER_WORKER_DEATH = 1
+_LOCAL_SCHEDULER_CONFIG = {"distributed.scheduler.allowed-failures": RETRIES_AFTER_WORKER_DEATH}
+
+
+@dataclass(frozen=True)
+class ClusterOptions:
+    """Where the tasks run: ``workers`` local processes (default: one per core), or an existing scheduler."""
+
+    workers: int | None = None
+    scheduler: str | None = None
+    dashboard: bool = True
+
+
+@dataclass
+class SweepOutcome:
+    """What a sweep did: runs done now, skipped (resume), failed, wall time (s), dashboard address."""
+
+    done: int = 0
+    skipped: int = 0
+    failed: int = 0
+    wall_s: float = 0.0
+    dashboard: str | None = None
+    notes: list[str] = field(default_factory=list)
+
+
+class SweepProgress(Protocol):
+    """What the runner reports to (the CLI draws a progress bar from it)."""
+
+    def start(self, total: int, already: int, dashboard: str | None, note: str) -> None: ...
+
+    def advance(self, row: dict[str, Any]) -> None: ...
+
+    def close(self) -> None: ...
+
+
+Task = Callable[[RunSpec, str, bool], dict]
+
+
+def dashboard_available() -> bool:
+    """The Dask dashboard needs bokeh; without it the sweep runs and says the dashboard is unavailable."""
+    return importlib.util.find_spec("bokeh") is not None
+
+
+def open_client(opts: ClusterOptions) -> tuple[Client, LocalCluster | None]:
+    """A client on an existing scheduler, or on a new local cluster bound to 127.0.0.1."""
+    if opts.scheduler:
+        return Client(opts.scheduler, set_as_default=False), None
+    workers = opts.workers or os.cpu_count() or 1
+    dashboard = f"{LOCALHOST}:0" if opts.dashboard and dashboard_available() else None
+    with dask.config.set(_LOCAL_SCHEDULER_CONFIG):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host=LOCALHOST,
+                               scheduler_port=0, dashboard_address=dashboard, silence_logs=logging.ERROR)
+    try:
+        return Client(cluster, set_as_default=False), cluster
+    except BaseException:
+        cluster.close()
+        raise
+
+
+def _dashboard(client: Client) -> tuple[str | None, str]:
+    if not dashboard_available():
+        return None, "Dask dashboard unavailable (bokeh is not installed)"
+    try:
+        link = client.dashboard_link
+    except Exception:  # noqa: BLE001 - a scheduler without a dashboard
+        link = None
+    return link, f"Dask dashboard: {link}" if link else "Dask dashboard unavailable"
+
+
+class _Threads:
+    """The cluster's worker threads, asked of the scheduler at most once a second (workers come and go)."""
+
+    def __init__(self, client: Client, period_s: float = 1.0) -> None:
+        self.client, self.period_s = client, period_s
+        self._value, self._when = 1, -float("inf")
+
+    def __call__(self) -> int:
+        if time.monotonic() - self._when >= self.period_s:
+            workers = self.client.scheduler_info()["workers"].values()
+            self._value = max(1, sum(w.get("nthreads", 1) for w in workers))
+            self._when = time.monotonic()
+        return self._value
+
+
+def _collect(client: Client, submit: Callable[[RunSpec], Any], todo: list[RunSpec], table: ResultsTable,
+             out_dir: Path, progress: SweepProgress | None, outcome: SweepOutcome) -> None:
+    """Keep one run in flight per cluster thread; hand each row to the table as it arrives."""
+    pending, threads = iter(todo), _Threads(client)
+    in_flight = {submit(run): run for run in itertools.islice(pending, threads())}
+    completed = as_completed(list(in_flight), loop=client.loop)
+    for future in completed:
+        run = in_flight.pop(future)
+        try:
+            row = future.result()
+        except Exception as exc:  # noqa: BLE001 - KilledWorker after the retry, or a lost task
+            row = failed_row(run, f"{type(exc).__name__}: {exc}")
+        future.release()
+        for nxt in itertools.islice(pending, max(1, threads() - len(in_flight))):
+            new = submit(nxt)
+            in_flight[new] = nxt
+            completed.add(new)
+        series = row.pop("_timeseries", None)
+        if series is not None:
+            write_timeseries(out_dir, row["run_key"], series)
+        table.add(row)
+        outcome.done += 1
+        outcome.failed += row["status"] != "ok"
+        if progress is not None:
+            progress.advance(row)
+
+
+def run_plan(plan: SweepPlan, table: ResultsTable, out_dir: Path, opts: ClusterOptions,
+             skip: set[str] = frozenset(), keep_timeseries: bool = False,
+             progress: SweepProgress | None = None, task: Task = run_one) -> SweepOutcome:
+    """Run every run of ``plan`` not in ``skip`` on Dask; rows go to ``table`` as they finish."""
+    from ..world.plant_fmu import file_sha256
+
+    todo = [r for r in plan.runs if r.key not in skip]
+    outcome = SweepOutcome(skipped=len(plan.runs) - len(todo))
+    t0 = time.perf_counter()
+    fmu_bytes, fmu_sha = Path(plan.fmu_path).read_bytes(), file_sha256(plan.fmu_path)
+    client, cluster = open_client(opts)
+    try:
+        outcome.dashboard, note = _dashboard(client)
+        if progress is not None:
+            progress.start(len(plan.runs), outcome.skipped, outcome.dashboard, note)
+        if todo:
+            shipper = FmuShipper(fmu_bytes, fmu_sha)
+            client.register_plugin(shipper)
+
+            def submit(run: RunSpec):
+                return client.submit(task, run, fmu_sha, keep_timeseries, key=f"crd-run-{run.key}",
+                                     pure=False)
+
+            _collect(client, submit, todo, table, out_dir, progress, outcome)
+            if cluster is None:  # an attached scheduler would hand the FMU to every worker that ever joins
+                client.unregister_worker_plugin(shipper.name)
+    finally:
+        table.close()
+        if progress is not None:
+            progress.close()
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    outcome.wall_s = time.perf_counter() - t0
+    return outcome

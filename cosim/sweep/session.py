@@ -1,0 +1,50 @@
+"""One sweep end to end: plan, run on Dask, write the table, draw the report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from ..results.writer import package_version
+from ..world.plant_fmu import file_sha256
+from .plan import SweepPlan, make_plan
+from .report import write_report
+from .runner import ClusterOptions, SweepOutcome, SweepProgress, Task, run_plan
+from .spec import SweepSpec
+from .table import ResultsTable, results_schema
+from .task import run_one
+
+STRATEGY_PATH = "ecu.strategy"
+
+
+def table_meta(plan: SweepPlan) -> dict[str, Any]:
+    """What ``results.parquet`` records about the sweep that made it (its schema metadata)."""
+    spec = plan.spec
+    return {
+        "name": spec.name, "description": spec.description, "mode": spec.mode, "seed": spec.seed,
+        "source": str(spec.source), "scenario": str(spec.scenario), "axes": [a.path for a in spec.axes],
+        "strategy_axis": STRATEGY_PATH if any(a.path == STRATEGY_PATH for a in spec.axes) else None,
+        "base_values": plan.base_values, "runs": len(plan.runs), "fmu_sha256": file_sha256(plan.fmu_path),
+        "package_version": package_version(),
+    }
+
+
+def open_table(plan: SweepPlan, out_dir: Path) -> ResultsTable:
+    example = plan.runs[0].point.as_dict() if plan.runs else {}
+    return ResultsTable(out_dir, results_schema(example, table_meta(plan)))
+
+
+def run_sweep(spec: SweepSpec, out_dir: Path, opts: ClusterOptions, resume: bool = False,
+              keep_timeseries: bool = False, progress: SweepProgress | None = None,
+              task: Task = run_one, report: bool = True) -> tuple[SweepPlan, SweepOutcome]:
+    """Plan ``spec``, run what is not done yet (``resume``) and write ``out_dir``'s table and report.
+
+    Without ``resume`` an existing ``results.parquet`` in ``out_dir`` is replaced.
+    """
+    plan = make_plan(spec)
+    table = open_table(plan, out_dir)
+    skip = table.resume({r.key: r.index for r in plan.runs}) if resume else set()
+    outcome = run_plan(plan, table, out_dir, opts, skip, keep_timeseries, progress, task)
+    if report:
+        write_report(out_dir)
+    return plan, outcome

@@ -1,0 +1,224 @@
+"""``crd sweep`` on a Dask LocalCluster bound to 127.0.0.1: rows, worker counts, resume, failures.
+
+Short runs (the cyclist 60 m ahead, 7 s simulated, radar noise on so that every
+result depends on its run's seed). The whole module takes about 40-60 s on 2 cores.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import psutil
+import pyarrow.parquet as pq
+import pytest
+
+from cosim.loop.master import run_scenario
+from cosim.scenarios.loader import scenario_from_dict
+from cosim.sweep.plan import make_plan, run_seed
+from cosim.sweep.runner import ClusterOptions, open_client
+from cosim.sweep.session import run_sweep
+from cosim.sweep.spec import load_sweep
+from cosim.sweep.task import run_one
+
+BASE = Path(__file__).resolve().parent / "sweep_data" / "short_cyclist.toml"
+WALL_COLUMNS = ("wall_time_s", "task_wall_s")
+SMALL = f"""
+[sweep]
+name = "small"
+scenario = "{BASE}"
+seed = 5
+replicates = 2
+
+[[axis]]
+path = "plant.road_friction"
+values = [0.6, 1.0]
+
+[[axis]]
+path = "radar.latency_s"
+values = [0.0, 0.15]
+
+[[axis]]
+path = "ecu.strategy"
+values = ["none", "tightening"]
+"""
+N_SMALL = 2 * 2 * 2 * 2
+
+
+@pytest.fixture(autouse=True)
+def loopback_only(monkeypatch):
+    """Any socket this process opens must go to 127.0.0.1 (or ::1, or a Unix socket)."""
+    real = socket.socket.connect
+
+    def connect(self, address):
+        if self.family in (socket.AF_INET, socket.AF_INET6):
+            assert address[0] in ("127.0.0.1", "::1", "localhost"), f"connection beyond loopback: {address}"
+        return real(self, address)
+
+    monkeypatch.setattr(socket.socket, "connect", connect)
+
+
+def _write(tmp: Path, text: str, name: str = "sweep.toml") -> Path:
+    path = tmp / name
+    path.write_text(text)
+    return path
+
+
+def _comparable(path: Path) -> list[dict]:
+    return [{k: v for k, v in row.items() if k not in WALL_COLUMNS} for row in pq.read_table(path).to_pylist()]
+
+
+@pytest.fixture(scope="module")
+def small(tmp_path_factory):
+    """The small sweep run with 1 worker: (sweep file, out dir)."""
+    tmp = tmp_path_factory.mktemp("small")
+    sweep = _write(tmp, SMALL)
+    run_sweep(load_sweep(sweep), tmp / "w1", ClusterOptions(workers=1))
+    return sweep, tmp / "w1"
+
+
+def test_small_sweep_rows_and_values(small) -> None:
+    sweep, out = small
+    rows = pq.read_table(out / "results.parquet").to_pylist()
+    assert len(rows) == N_SMALL and [r["run"] for r in rows] == list(range(N_SMALL))
+    assert all(r["status"] == "ok" and r["error"] is None for r in rows)
+    combos = [(f, lat, s, rep) for f in (0.6, 1.0) for lat in (0.0, 0.15) for s in ("none", "tightening")
+              for rep in (0, 1)]
+    assert [(r["plant.road_friction"], r["radar.latency_s"], r["ecu.strategy"], r["replicate"]) for r in rows] == combos
+    assert all(r["strategy"] == r["ecu.strategy"] for r in rows)
+    assert all(r["seed"] == run_seed(r["run_key"]) for r in rows) and len({r["seed"] for r in rows}) == N_SMALL
+    # a row is the run itself: redo one directly from the plan and compare its metrics
+    plan = make_plan(load_sweep(sweep))
+    spec = plan.runs[5]
+    record = run_scenario(scenario_from_dict(spec.scenario), plan.fmu_path)
+    m, row = record.metrics, rows[5]
+    assert (row["collided"], row["contingency_invocations"], row["sim_time_s"]) == \
+        (m.collided, m.contingency_invocations, m.sim_time_s)
+    assert row["min_gap_m"] == m.min_gap_m and row["impact_speed_mps"] == m.impact_speed_mps
+    # the seed matters: the two replicates of a setting differ somewhere
+    assert any(rows[i]["min_gap_m"] != rows[i + 1]["min_gap_m"] for i in range(0, N_SMALL, 2))
+    report = (out / "report.md").read_text()
+    assert "| none | 8 | 0 |" in report and "| tightening | 8 | 0 |" in report
+    assert (out / "maps" / "collision_rate__plant.road_friction__radar.latency_s.png").stat().st_size > 1000
+
+
+def test_same_table_with_two_workers(small, tmp_path) -> None:
+    sweep, out1 = small
+    run_sweep(load_sweep(sweep), tmp_path / "w2", ClusterOptions(workers=2), report=False)
+    assert _comparable(tmp_path / "w2" / "results.parquet") == _comparable(out1 / "results.parquet")
+
+
+def _rows_in(path: Path) -> int:
+    try:
+        return pq.read_metadata(path).num_rows
+    except Exception:  # noqa: BLE001 - not written yet
+        return -1
+
+
+@pytest.mark.wallclock
+def test_resume_after_the_process_is_killed(small, tmp_path) -> None:
+    sweep, out1 = small
+    out = tmp_path / "killed"
+    cmd = [sys.executable, "-m", "cosim.cli.main", "sweep", str(sweep), "--workers", "1", "--out", str(out)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 120
+        while _rows_in(out / "results.parquet") < 1 and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        children = psutil.Process(proc.pid).children(recursive=True)
+        os.kill(proc.pid, signal.SIGKILL)
+    finally:
+        proc.wait(timeout=30)
+    _, alive = psutil.wait_procs(children, timeout=20)
+    for child in alive:  # ours to stop; their survival is a failure below
+        child.kill()
+    assert not alive, f"worker processes outlived the killed sweep: {[c.pid for c in alive]}"
+    partial = pq.read_table(out / "results.parquet").to_pylist()
+    assert 1 <= len(partial) < N_SMALL, f"expected a sweep killed mid-way, got {len(partial)} rows"
+    _, outcome = run_sweep(load_sweep(sweep), out, ClusterOptions(workers=2), resume=True, report=False)
+    assert (outcome.skipped, outcome.done) == (len(partial), N_SMALL - len(partial))
+    assert _comparable(out / "results.parquet") == _comparable(out1 / "results.parquet")
+    kept = {r["run_key"]: r["task_wall_s"] for r in pq.read_table(out / "results.parquet").to_pylist()}
+    assert all(kept[r["run_key"]] == r["task_wall_s"] for r in partial)  # not run again
+
+
+def test_failing_runs_are_recorded_and_the_others_run(tmp_path) -> None:
+    text = (f'[sweep]\nname = "fails"\nscenario = "{BASE}"\n'
+            '[[axis]]\npath = "plant.road_friction"\nvalues = [1.0, 2.0]\n'            # 2.0: the loader refuses
+            '[[axis]]\npath = "plant.parameters.brake_dead_time"\nvalues = [0.1, 0.9]\n')  # 0.9: the FMU refuses
+    _, outcome = run_sweep(load_sweep(_write(tmp_path, text)), tmp_path / "out", ClusterOptions(workers=1))
+    rows = pq.read_table(tmp_path / "out" / "results.parquet").to_pylist()
+    assert len(rows) == 4 and outcome.failed == 3
+    assert [r["status"] for r in rows] == ["ok", "failed", "failed", "failed"]
+    assert rows[0]["sim_time_s"] > 0 and rows[1]["collided"] is None
+    assert "brake_dead_time" in rows[1]["error"] or "refused" in rows[1]["error"]
+    assert "plant.road_friction" in rows[2]["error"] and "1.5" in rows[2]["error"]
+    assert "failed runs" in (tmp_path / "out" / "report.md").read_text().lower()
+
+
+def crash_on_run_1(run, sha, keep):
+    """A task whose worker dies (os._exit stands in for a native crash) on run 1; counts its attempts.
+
+    It dies a moment into the run, as a crash in the FMU would: dying within milliseconds of the
+    previous task's end would race that task's completion message, and Dask would blame both.
+    """
+    if run.index == 1:
+        with open(Path(tempfile.gettempdir()) / f"crd-test-crash-{run.key}", "a") as handle:
+            handle.write("attempt\n")
+        time.sleep(0.3)
+        os._exit(13)
+    return run_one(run, sha, keep)
+
+
+@pytest.mark.wallclock
+def test_a_task_whose_worker_dies_is_retried_once_then_failed(tmp_path) -> None:
+    text = f'[sweep]\nname = "crash"\nscenario = "{BASE}"\n[[axis]]\npath = "radar.latency_s"\nvalues = [0.0, 0.1, 0.2]\n'
+    spec = load_sweep(_write(tmp_path, text))
+    key = make_plan(spec).runs[1].key
+    marker = Path(tempfile.gettempdir()) / f"crd-test-crash-{key}"
+    marker.unlink(missing_ok=True)
+    try:
+        _, outcome = run_sweep(spec, tmp_path / "out", ClusterOptions(workers=2), task=crash_on_run_1, report=False)
+        attempts = marker.read_text().count("attempt")
+    finally:
+        marker.unlink(missing_ok=True)
+    rows = pq.read_table(tmp_path / "out" / "results.parquet").to_pylist()
+    assert [r["status"] for r in rows] == ["ok", "failed", "ok"], [(r["run"], r["run_key"], r["error"]) for r in rows]
+    assert outcome.failed == 1
+    assert "KilledWorker" in rows[1]["error"]
+    assert attempts == 2  # the first try and one retry
+
+
+def test_cluster_is_bound_to_loopback_and_a_scheduler_can_be_attached(tmp_path) -> None:
+    client, cluster = open_client(ClusterOptions(workers=1))
+    try:
+        info = client.scheduler_info()
+        assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
+        assert info["workers"] and all(w.startswith("tcp://127.0.0.1:") for w in info["workers"])
+        if client.dashboard_link:
+            assert "127.0.0.1" in client.dashboard_link
+        text = f'[sweep]\nname = "attach"\nscenario = "{BASE}"\n[[axis]]\npath = "ecu.strategy"\nvalues = ["none"]\n'
+        _, outcome = run_sweep(load_sweep(_write(tmp_path, text)), tmp_path / "out",
+                               ClusterOptions(scheduler=cluster.scheduler_address), report=False)
+        assert outcome.done == 1 and outcome.failed == 0
+    finally:
+        client.close()
+        cluster.close()
+
+
+def test_report_is_redrawn_from_the_table_alone(small, tmp_path, capsys) -> None:
+    from cosim.cli.main import main
+
+    _, out = small
+    copy = tmp_path / "copy"
+    copy.mkdir()
+    (copy / "results.parquet").write_bytes((out / "results.parquet").read_bytes())
+    assert main(["sweep", "report", str(copy), "--axes", "radar.latency_s", "plant.road_friction"]) == 0
+    assert (copy / "report.md").read_text().count("![") == 2  # the two metrics over the one pair asked for
+    assert (copy / "maps" / "mean_impact_speed_mps__radar.latency_s__plant.road_friction.png").is_file()
