@@ -5,16 +5,9 @@ from __future__ import annotations
 import argparse
 
 from ..link.ecu_link import ECU_MODES, EcuOptions
+from ..link.stall import DEFAULT_STALL_TIMEOUT_S
 from ..results.run_record import RunRecord
 from ..world.gateway import SECURITY_EVENTS
-
-#: exit status of a run in which frames failed authentication or a foreign SafetyOverride was seen
-EXIT_SECURITY = 4
-
-
-def security_exit(records: list[RunRecord]) -> int:
-    """``EXIT_SECURITY`` when any run recorded a security event (``auth_failure``, ``ecu_security_fault``), else 0."""
-    return EXIT_SECURITY if any(e.kind in SECURITY_EVENTS for r in records for e in r.events) else 0
 
 
 def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
@@ -30,7 +23,11 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
     g.add_argument("--join-timeout", type=float, default=10.0, metavar="S",
                    help="wall-clock bound on waiting for the ECU to join (default 10 s)")
     g.add_argument("--reply-timeout", type=float, default=1.0, metavar="S",
-                   help="wall-clock bound on waiting for a cycle's SafetyOverride (default 1 s)")
+                   help="real time: no frame from the ECU for this long is ecu_lost; lock-step: a longer wait "
+                        "for a cycle's SafetyOverride is recorded as an ecu_stall event (default 1 s)")
+    g.add_argument("--stall-timeout", type=float, default=DEFAULT_STALL_TIMEOUT_S, metavar="S",
+                   help="lock-step: wall-clock bound on waiting for a stalled ECU's SafetyOverride, simulated "
+                        f"time held; past it the run stops with an error (default {DEFAULT_STALL_TIMEOUT_S:g} s)")
     g.add_argument("--key-file", metavar="F",
                    help="SecOC key file (32 hex digits, mode 0600) shared with the ECU; default: a fresh key "
                         "per run in process and for --ecu process; attach without it: E2E protection only")
@@ -42,7 +39,8 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
 def ecu_options(args: argparse.Namespace) -> EcuOptions:
     return EcuOptions(mode=args.ecu, interface=args.bus_interface, channel=args.bus_channel,
                       realtime=getattr(args, "realtime", False), join_timeout_s=args.join_timeout,
-                      reply_timeout_s=args.reply_timeout, key_file=args.key_file)
+                      reply_timeout_s=args.reply_timeout, stall_timeout_s=args.stall_timeout,
+                      key_file=args.key_file)
 
 
 def timing_lines(records: list[RunRecord]) -> list[str]:

@@ -6,7 +6,9 @@ are imported lazily from the table below, so ``crd ecu`` never loads fmpy and
 ``crd fmu`` never loads the ECU.
 
 Errors become a one-line ``error: ...`` on stderr and exit code 1; ``--debug``
-shows the traceback instead.
+shows the traceback instead. An interrupt exits ``128 + signal`` (130 SIGINT,
+143 SIGTERM; ``crd run``/``crd paper`` write their results so far first, see
+:mod:`cosim.cli.signals`).
 """
 
 from __future__ import annotations
@@ -88,9 +90,10 @@ def main(argv: list[str] | None = None) -> int:
     )
     try:
         return int(args.func(args) or 0)
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:  # SIGINT, or SIGTERM under cosim.cli.signals: 130 / 143
+        from ..errors import interrupt_signal  # here: importing it early would import python-can first
+        print(f"interrupted: {exc}" if str(exc) else "interrupted", file=sys.stderr)
+        return 128 + interrupt_signal(exc)
     except Exception as exc:  # noqa: BLE001 - the CLI boundary turns every error into one line
         if args.debug:
             raise

@@ -3,8 +3,12 @@
 Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``,
 writes every run's outputs, ``speed_profiles.png`` and ``report.md``, prints a
 table and each claim of the paper with PASS or FAIL
-(:mod:`cosim.results.paper_claims`), and exits 3 if any claim fails, 4 if frames
-failed SecOC authentication (see ``crd run``).
+(:mod:`cosim.results.paper_claims`), and exits 3 if any claim fails, 4 if a
+fault event occurred (``ecu_lost``, ``second_ecu``, ``auth_failure``,
+``ecu_security_fault``; printed as ``FAULT: ...``) that the scenario's
+``[checks] expect_events`` does not list, 1 on an error (results so far
+written), 130/143 on SIGINT/SIGTERM (results so far written, ``metrics.json``
+says ``interrupted``).
 """
 
 from __future__ import annotations
@@ -16,8 +20,10 @@ from pathlib import Path
 from ..loop.experiment import run_strategies
 from ..results.paper_claims import REQUIRED, evaluate, speed_trace_dance, verdicts
 from ..scenarios.loader import load_scenario
-from .ecu_options import add_ecu_arguments, ecu_options, security_exit, timing_lines
+from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
 from .progress import end_progress, progress_printer, results_table
+from .signals import interruptible
+from ..results.events import EXIT_FAULT_EVENT, unexpected_faults
 from .scenarios import find_scenario
 
 PAPER_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper_cyclist.toml"
@@ -32,7 +38,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--with-adaptive", action="store_true",
                    help="also run our extension 'adaptive' (shown beside the three; the claims concern the three)")
     add_ecu_arguments(p, realtime=False)
-    p.set_defaults(func=_do_paper)
+    p.set_defaults(func=interruptible(_do_paper))
 
 
 def _do_paper(args: argparse.Namespace) -> int:
@@ -57,4 +63,9 @@ def _do_paper(args: argparse.Namespace) -> int:
     print(f"[{'PASS' if trace.passed else 'FAIL'}] claim {trace.number} (reported, issue 14): {trace.text}\n"
           f"        {trace.detail}")
     print(f"\nspeed profiles: {args.out / 'speed_profiles.png'}; report: {args.out / 'report.md'}")
-    return security_exit(records) if all(c.passed for c in claims) else EXIT_CLAIM_FAILED
+    faults = unexpected_faults(records, scenario.checks.expect_events)
+    for line in faults:
+        print(f"FAULT: {line}")
+    if not all(c.passed for c in claims):
+        return EXIT_CLAIM_FAILED
+    return EXIT_FAULT_EVENT if faults else 0

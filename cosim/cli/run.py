@@ -5,10 +5,21 @@
 (``.blf``, ``.asc``, ``.mf4``, ...; checked before the run starts). Writes
 ``report.md`` with the table, the checks, the plots and the resolved configuration.
 
-Exit status 0 when every ``[checks]`` expectation holds, 3 when one fails
-(each printed), 4 when frames failed SecOC authentication or a foreign
-``SafetyOverride`` was seen (``auth_failure``/``ecu_security_fault`` events), 1 on an error (bad scenario, missing/broken FMU, FMI error:
-results up to the error are still written).
+Exit status:
+
+* 0: every ``[checks]`` expectation holds and no fault event occurred;
+* 1: an error (bad scenario, unwritable ``--out``, missing/broken FMU, FMI
+  error, NaN output, a lock-step ECU stalled past ``--stall-timeout``; for an
+  error during the run the results up to it are written);
+* 3: a ``[checks]`` expectation failed (each printed);
+* 4: a fault event occurred that ``[checks] expect_events`` does not list:
+  ``ecu_lost``, ``second_ecu``, ``auth_failure`` or ``ecu_security_fault``
+  (each printed as ``FAULT: ...``);
+* 130 / 143: interrupted by SIGINT / SIGTERM; the results so far are written
+  and ``metrics.json`` says ``interrupted``.
+
+The output directory is checked before the run; the time series and the CAN
+log are written while the run goes, ``metrics.json`` on every way out.
 """
 
 from __future__ import annotations
@@ -21,8 +32,10 @@ from ..loop.experiment import check_run, run_strategies
 from ..results.can_logs import LOG_FORMATS
 from ..scenarios.config import STRATEGIES
 from ..scenarios.loader import load_scenario
-from .ecu_options import add_ecu_arguments, ecu_options, security_exit, timing_lines
+from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
 from .progress import end_progress, progress_printer, results_table
+from .signals import interruptible
+from ..results.events import EXIT_FAULT_EVENT, unexpected_faults
 from .scenarios import find_scenario
 
 EXIT_CHECK_FAILED = 3
@@ -37,7 +50,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
                    help="another CAN log besides can.blf; repeatable; the suffix picks the format"
                         f" ({', '.join(LOG_FORMATS)}; .mf4 needs crd[mdf])")
     add_ecu_arguments(p, realtime=True)
-    p.set_defaults(func=_do_run)
+    p.set_defaults(func=interruptible(_do_run))
 
 
 def _do_run(args: argparse.Namespace) -> int:
@@ -57,5 +70,8 @@ def _do_run(args: argparse.Namespace) -> int:
     failed = check_run(scenario, record)
     for message in failed:
         print(f"CHECK FAILED: {message}")
+    faults = unexpected_faults(records, scenario.checks.expect_events)
+    for line in faults:
+        print(f"FAULT: {line}")
     print(f"report: {args.out / 'report.md'}")
-    return EXIT_CHECK_FAILED if failed else security_exit(records)
+    return EXIT_CHECK_FAILED if failed else (EXIT_FAULT_EVENT if faults else 0)

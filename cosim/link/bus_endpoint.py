@@ -28,6 +28,7 @@ import can
 from can_dbc import write_key_file
 from ecu import EcuConfig
 
+from ..results.events import EventLog
 from ..results.run_record import RunEvent
 from .ecu_link import EcuLinkError, EcuOptions
 from .ecu_process import EcuProcess
@@ -51,7 +52,7 @@ class BusEndpoint:
         self.options = options
         self.keyed = key is not None
         self.process: EcuProcess | None = None
-        self.events: list[RunEvent] = []
+        self.events = EventLog()  # rate-limited: a dead peer fails every frame
         self.ecu_report = ""
         self.lost = False
         self.join_wait_s = 0.0
@@ -128,9 +129,15 @@ class BusEndpoint:
             into.append(msg)
         return into
 
+    def who(self) -> str:
+        """The ECU, for messages: the spawned process and whether it runs, or the bus it is on."""
+        if self.process is None:
+            return f"the ECU on {self.options.interface} {self.channel}"
+        return f"crd ecu pid {self.process.pid}, {'still running' if self.process.alive() else 'exited'}"
+
     def _bus_error(self, t_s: float, exc: Exception) -> None:
-        log.warning("t=%.3f s: bus error: %s", t_s, exc)
-        self.events.append(RunEvent(t_s, "bus_error", str(exc)))
+        if self.events.add(RunEvent(t_s, "bus_error", str(exc))):  # logged as often as kept
+            log.warning("t=%.3f s: bus error: %s", t_s, exc)
         gone = self.peers is not None and self.peers.peer_count == 0
         if self.process is not None and gone:
             try:  # it left the bus; give the kernel a moment to report its exit

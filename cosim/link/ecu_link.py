@@ -25,6 +25,15 @@ per run (written, mode 0600, into the run's private 0700 directory for the
 child); ``attach`` without a key file, or ``authenticate=False``, runs with
 E2E protection only. The master then sends each input and ``SimClock`` with
 its authenticator frame, and waits for ``SafetyOverride``'s authenticator too.
+
+ECU lost (a bus error after which the spawned process is dead or no peer is
+left; in real time also no frame for ``reply_timeout_s``): the gateway falls
+back to the driver, and the run exits 4 unless ``[checks] expect_events``
+lists ``ecu_lost``. An ECU that is there but silent in lock-step is a stall
+(:mod:`cosim.link.stall`): the master waits up to ``stall_timeout_s`` with
+simulated time held, then stops the run with an error. Events are
+rate-limited (:class:`cosim.results.events.EventLog`): a dead peer fails every
+frame, and only the first few ``bus_error`` events and a count are kept.
 """
 
 from __future__ import annotations
@@ -39,6 +48,7 @@ from ecu import EcuConfig
 
 from ..errors import CosimError
 from ..results.run_record import RunEvent
+from .stall import DEFAULT_STALL_TIMEOUT_S
 
 ECU_MODES = ("inprocess", "process", "attach")
 
@@ -98,6 +108,7 @@ class EcuOptions:
     key_file: str | None = None
     #: False: E2E protection only (no SecOC), unless a key file is named
     authenticate: bool = True
+    stall_timeout_s: float = DEFAULT_STALL_TIMEOUT_S  # lock-step: longest wait for one cycle's reply
 
     def __post_init__(self) -> None:
         if self.interface is None:
@@ -109,7 +120,7 @@ class EcuOptions:
         if self.realtime and self.mode == "inprocess":
             raise EcuLinkError("--realtime: expected --ecu process or attach (an ECU on its own clock), "
                                "got inprocess")
-        for name in ("join_timeout_s", "reply_timeout_s", "stop_timeout_s"):
+        for name in ("join_timeout_s", "reply_timeout_s", "stop_timeout_s", "stall_timeout_s"):
             if not getattr(self, name) > 0.0:
                 raise EcuLinkError(f"{name}: expected > 0 s, got {getattr(self, name)!r}")
 

@@ -5,8 +5,9 @@ The child runs ``python -m cosim.cli.main ecu --interface I --channel C
 ``F`` (floats as ``repr``, so they read back bit-identical). Its stdout and
 stderr go to files in ``workdir`` (never pipes: a chatty child cannot block).
 
-Stopping is bounded: SIGTERM (the ECU sets its stop event, shuts its bus down
-and prints its run summary), then SIGKILL after ``timeout_s``. :meth:`stop`
+Stopping is bounded: SIGTERM, and SIGCONT in case it was stopped (the ECU
+sets its stop event, shuts its bus down and prints its run summary), then
+SIGKILL after ``timeout_s``. :meth:`stop`
 is idempotent and is called from ``finally`` blocks, so a child never
 outlives its parent's run, on errors and on KeyboardInterrupt too.
 """
@@ -65,6 +66,7 @@ class EcuProcess:
         if self.returncode is None:
             if self.proc.poll() is None:
                 self.proc.send_signal(signal.SIGTERM)
+                self.proc.send_signal(signal.SIGCONT)  # a stopped child (SIGSTOP) handles SIGTERM only when continued
                 try:
                     self.proc.wait(timeout=timeout_s)
                 except subprocess.TimeoutExpired:

@@ -2,11 +2,14 @@
 
 Each cycle the master sends its frames, then ``SimClock`` (``SimTimeMs =
 round(t * 1000)``); the ECU (``crd ecu --sim-time``) runs one cycle on it,
-after the frames before it, and the master waits up to ``reply_timeout_s``
+after the frames before it, and the master waits up to ``stall_timeout_s``
 (wall time) for that cycle's ``SafetyOverride`` (and, for a spawned ECU, the
 ``EcuStatus`` due in that cycle) before it advances. The ECU sees the same
 frames at the same cycle times as in process, so metrics and time series are
-identical. No reply in time: ``ecu_lost``, and the master stops waiting.
+identical. A silent ECU is a stall (:mod:`cosim.link.stall`): simulated time
+is held while the master waits; past ``stall_timeout_s`` it stops the run with
+:class:`~cosim.errors.EcuStallError`; a wait over ``reply_timeout_s`` is
+recorded as an ``ecu_stall`` event.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from ecu import EcuConfig
 
 from .bus_endpoint import BusEndpoint
 from .ecu_link import EcuOptions, LinkReport
+from .stall import StallWatch
 
 OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
 STATUS_ID = LAYOUTS["EcuStatus"].frame_id
@@ -38,6 +42,7 @@ class LockStepLink:
         self.events = self.endpoint.events
         self._status_period = config.status_period_cycles if options.mode == "process" else None
         self._clock_seq = CounterSequence()
+        self._stall = StallWatch(options.reply_timeout_s, options.stall_timeout_s)
 
     # what tests and the CLI look at: the spawned process, the bus, whether the ECU was lost
     pid = property(lambda self: self.endpoint.pid)
@@ -74,17 +79,19 @@ class LockStepLink:
             wanted.add(STATUS_ID)
         # without a peer count the first reply wait is the join wait
         first = cycle == 0 and endpoint.peers is None
-        wait_s = self.options.join_timeout_s if first else self.options.reply_timeout_s
-        deadline = time.monotonic() + wait_s
+        wait_s = self.options.join_timeout_s if first else self.options.stall_timeout_s
+        started = time.monotonic()
+        deadline = started + wait_s
         while wanted and not endpoint.lost:
             remaining = deadline - time.monotonic()
             if remaining <= 0.0:
-                endpoint.lose(t_s, f"no SafetyOverride for t = {t_s:.3f} s within {wait_s} s wall time")
-                break
+                raise self._stall.expired(t_s, time.monotonic() - started, endpoint.who())
             msg = endpoint.recv(remaining, t_s)
             if msg is not None:
                 received.append(msg)
                 wanted.discard(msg.arbitration_id)
+        if not first:
+            self._stall.waited(t_s, time.monotonic() - started, endpoint.events)
         return endpoint.drain(t_s, received)  # e.g. a second ECU's frames
 
     def report(self) -> LinkReport:

@@ -4,22 +4,29 @@
 first use via ``fmu_plant.build.ensure_fmu``); :func:`run_strategies` runs
 each strategy and writes everything under ``out_dir``, ``report.md`` last;
 :func:`check_verdicts` evaluates ``[checks]`` (:func:`check_run` lists the failed ones).
+
+Results survive (issue 15): ``out_dir`` is checked before anything runs, each
+run's time series and CAN logs are streamed (:class:`cosim.results.stream.RunStream`),
+and ``metrics.json`` (with each run's status) is written before the first
+run, after each, and on every way out, including SIGINT/SIGTERM.
 """
 
 from __future__ import annotations
 
 import logging
+import signal
 from pathlib import Path
 from typing import Callable, Sequence
 
 from ..link.ecu_link import EcuOptions
-from ..errors import PlantError
-from .master import Progress, ecu_config, run_scenario
+from ..errors import PlantError, RunInterrupted
+from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
 from ..results.plots import speed_profiles, timeline
 from ..results.report import Verdict, fmt, write_report
-from ..results.writer import provenance, write_metrics, write_resolved_config, write_run
+from ..results.stream import RunStream, check_out_dir
+from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
 from ..results.run_record import RunRecord
 from ..scenarios.config import Scenario
 
@@ -65,6 +72,10 @@ def _check_one(scenario: Scenario, record: RunRecord) -> list[Verdict]:
     if c.max_contingency_invocations is not None:
         out.append(Verdict("max_contingency_invocations", n <= c.max_contingency_invocations,
                            f"max_contingency_invocations: expected <= {c.max_contingency_invocations}, got {n}"))
+    for kind in c.expect_events:
+        seen = any(e.kind == kind for e in record.events)
+        out.append(Verdict(f"expect_events {kind}", seen,
+                           f"expect_events: expected {kind}, " + ("it occurred" if seen else "which did not occur")))
     return out
 
 
@@ -85,32 +96,108 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
                    ecu: EcuOptions | None = None, judge: Judge | None = None) -> list[RunRecord]:
     """Run each strategy; with ``out_dir``, write metrics, logs, time series, config, plots and ``report.md``.
 
+    With ``out_dir``: the directory is checked before anything runs, the files are written
+    as the run goes, and ``metrics.json`` on every way out (module docstring). A run ended
+    by SIGINT/SIGTERM stops the series: its results are written, then
+    :class:`~cosim.errors.RunInterrupted` is raised on.
     ``can_logs``: CAN log files besides ``can.blf`` (checked before any run);
     ``ecu`` says where the ECU runs (default: in process; see :mod:`cosim.link.ecu_link`);
     ``judge`` gives the report's verdicts (default: the scenario's ``[checks]``).
     """
-    logs = check_can_logs(can_logs)
-    fmu_path = resolve_fmu(scenario)
-    for strategy in strategies:  # fail fast on a bad [ecu] before any run
-        ecu_config(scenario, strategy)
-    records = []
-    for strategy in strategies:
-        show = progress(strategy) if progress else None
-        record = run_scenario(scenario, fmu_path, strategy, show, ecu=ecu)
-        if show is not None:
-            show(record.metrics.sim_time_s, record.metrics.sim_time_s)  # final line
-        records.append(record)
+    logs, fmu_path = _preflight(scenario, strategies, out_dir, can_logs)
+    records: list[RunRecord] = []
+    status, error = "running", None
+    try:
         if out_dir is not None:
-            run_dir = write_run(out_dir, record, scenario.scenario.start_datetime, logs)
-            timeline(run_dir / "timeline.png", record)
-    if out_dir is not None:
-        _write_summary(out_dir, scenario, records, judge or (lambda recs: check_verdicts(scenario, recs)))
+            out_dir.mkdir(parents=True, exist_ok=True)
+            write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
+        for strategy in strategies:
+            record = _run_one(scenario, fmu_path, strategy, out_dir, logs, progress, ecu)
+            records.append(record)
+            if record.interrupted:
+                break
+            if out_dir is not None:
+                write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
+        status = "interrupted" if records and records[-1].interrupted else \
+            "error" if any(r.error for r in records) else "complete"
+    except KeyboardInterrupt as exc:
+        status, error = "interrupted", str(exc)
+        raise
+    except BaseException as exc:
+        status, error = "error", str(exc)
+        raise
+    finally:
+        if out_dir is not None:
+            _write_summary(out_dir, scenario, records, judge or (lambda recs: check_verdicts(scenario, recs)),
+                           status, error)
+    if status == "interrupted":
+        raise _interrupted(records[-1], out_dir)
     return records
 
 
-def _write_summary(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge) -> None:
+def _preflight(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
+               can_logs: Sequence[str]) -> tuple:
+    """Everything that can fail before a run, checked before the first one: logs, ``out_dir``, FMU, ``[ecu]``."""
+    logs = check_can_logs(can_logs)
+    if out_dir is not None:
+        check_out_dir(out_dir, strategies)
+    fmu_path = resolve_fmu(scenario)
+    for strategy in strategies:
+        ecu_config(scenario, strategy)
+    return logs, fmu_path
+
+
+def _interrupted(record: RunRecord, out_dir: Path | None) -> RunInterrupted:
+    """The interrupt a run recorded, raised on to the CLI (which exits 128 + signal)."""
+    where = f"; results so far in {out_dir}" if out_dir is not None else ""
+    return RunInterrupted(signal.Signals[record.interrupted], f"{record.strategy} interrupted by "
+                          f"{record.interrupted} at t = {record.metrics.sim_time_s:.2f} s{where}")
+
+
+def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | None, logs: Sequence[str],
+             progress: Callable[[str], Progress] | None, ecu: EcuOptions | None) -> RunRecord:
+    """One strategy's run, its files streamed under ``out_dir/<strategy>/`` as it goes."""
+    show = progress(strategy) if progress else None
+    stream = RunStream(out_dir / strategy, logs, scenario.scenario.start_datetime) if out_dir is not None else None
+    loop: ClosedLoop | None = None
+    try:
+        loop = ClosedLoop(scenario, fmu_path, strategy, ecu=ecu)
+
+        def tick(t_s: float, duration_s: float) -> None:  # every 100 ECU cycles
+            if stream is not None:
+                stream.flush(loop.record)
+            if show is not None:
+                show(t_s, duration_s)
+
+        record = loop.run(tick)
+    finally:
+        if stream is not None:
+            stream.close(loop.record if loop is not None else None)
+    if show is not None:
+        show(record.metrics.sim_time_s, record.metrics.sim_time_s)  # final line
+    if out_dir is not None:
+        write_events(out_dir / strategy / "events.json", record)
+        timeline(out_dir / strategy / "timeline.png", record)
+    return record
+
+
+def _write_summary(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, status: str,
+                   error: str | None) -> None:
+    """``metrics.json`` first (the one file every way out must leave), then the config, plots and report."""
     prov = provenance(scenario, records)
-    write_metrics(out_dir / "metrics.json", records, prov)
+    write_metrics(out_dir / "metrics.json", records, prov, status, error)
+    if not records:
+        return
+    try:
+        _write_report(out_dir, scenario, records, judge, prov)
+    except Exception as exc:  # noqa: BLE001 - on the way out of a failed run, never mask its error
+        if status == "complete":
+            raise
+        log.warning("could not write the summary files after the run stopped (%s): %s", status, exc)
+
+
+def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, prov: dict) -> None:
+    """``config.resolved.toml``, ``speed_profiles.png`` and ``report.md`` (with the judge's verdicts)."""
     resolved = out_dir / "config.resolved.toml"
     write_resolved_config(resolved, scenario, ecu_config(scenario, records[0].strategy), prov)
     obj = scenario.object

@@ -35,6 +35,15 @@ bumper reaches the object's rear; the run stops at that plant step and records
 the relative impact speed. Between cycles the position is read only when a
 collision is possible within the cycle, which keeps the run deterministic and
 cheap.
+
+How a run ends (``RunRecord.status``): ``ok`` at its duration, ``collided``,
+``error`` (the FMU failed or gave a NaN/Inf output, checked once per cycle on
+what the master reads; or, in lock-step, the ECU stalled past
+``stall_timeout_s``: :mod:`cosim.link.stall`), or ``interrupted`` (SIGINT, or
+SIGTERM via :mod:`cosim.cli.signals`). In every case the record keeps all
+cycles up to the stop, and the FMU, an ECU process and the bus are closed.
+Events from the link, the gateway and the loop are merged rate-limited
+(:func:`cosim.results.events.merge_events`).
 """
 
 from __future__ import annotations
@@ -51,13 +60,15 @@ from can_dbc import ECU_CYCLE_S, CounterSequence, SecOcSender, encode, signal_la
 from can_dbc.units import KMH_PER_MPS
 from ecu import EcuConfig
 
-from ..errors import FmiStepError
+from ..errors import EcuStallError, FmiStepError, interrupt_signal, signal_name
 from ..link.ecu_link import EcuOptions, open_link, run_key
+from ..results.events import merge_events
 from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S, Scenario
 from ..world.driver_models import Pedals, make_driver
 from ..world.gateway import Actuation, Gateway
-from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, FmuPlant, PlantSample
+from ..world.plant import finite_check, open_plant
+from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, PlantSample
 from ..world.radar_model import RadarModel
 from ..world.scene import Scene
 from .phase_timer import PHASES, PhaseTimer, instrument
@@ -115,7 +126,8 @@ class ClosedLoop:
         # bound once: next() of each message's E2E counter, called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
             CounterSequence().next for _ in range(3))
-        self.plant = FmuPlant(scenario.plant, fmu_path)
+        self.plant = open_plant(scenario.plant, fmu_path)
+        self._check_sample = finite_check(scenario.plant)  # NaN/Inf output: an error naming time and variable
         self.record.fmu_path, self.record.fmu_sha256 = str(fmu_path), self.plant.sha256
         if not self.plant.wheel_speeds_mapped:
             self.record.events.append(RunEvent(0.0, "warning", DERIVED_WHEEL_SPEEDS))
@@ -149,6 +161,7 @@ class ClosedLoop:
         """First half of a cycle: read the plant, run the models, send this cycle's frames to the ECU."""
         self.link.pace(cycle)
         sample = self.plant.read()
+        self._check_sample(sample, t_s)
         scene = self.scene
         bumper_m = self._bumper_m = sample.position_m + self._bumper_offset_m
         gap_m = scene.observe(t_s, bumper_m) if scene else float("inf")
@@ -235,13 +248,23 @@ class ClosedLoop:
             if not self.record.metrics.collided:
                 self._final(k * self.h_s)
         except FmiStepError as exc:
-            self.record.error = str(exc)
-            self.record.events.append(RunEvent(exc.time_s, "fmi_error", str(exc)))
-            log.error("%s: %s", self.strategy, exc)
+            self._stop_on(exc.time_s, "fmi_error", str(exc))
+        except EcuStallError as exc:
+            self._stop_on(exc.time_s, "ecu_stalled", str(exc))
+        except KeyboardInterrupt as exc:  # SIGINT, or SIGTERM via cosim.cli.signals: keep what was run
+            self.record.interrupted = signal_name(interrupt_signal(exc))
+            self.record.events.append(RunEvent(k * self.h_s, "interrupted", f"{self.record.interrupted}: "
+                                               f"stopped at t = {k * self.h_s:.3f} s, results so far kept"))
         finally:
             self.close()
         self._finish(k * self.h_s, time.perf_counter() - wall0, cycle)
         return self.record
+
+    def _stop_on(self, t_s: float, kind: str, message: str) -> None:
+        """An error that ends the run early; the record keeps everything up to ``t_s``."""
+        self.record.error = message
+        self.record.events.append(RunEvent(t_s, kind, message))
+        log.error("%s: %s", self.strategy, message)
 
     def _track(self, gap_m: float) -> None:
         m = self.record.metrics
@@ -259,6 +282,7 @@ class ClosedLoop:
     def _final(self, t_s: float) -> None:
         """Final sample at the end of the run (outputs after the last step)."""
         sample = self.plant.read()
+        self._check_sample(sample, t_s)
         gap = self.scene.path_gap(t_s, sample.position_m + self._bumper_offset_m)[0] if self.scene else None
         gap = gap if gap is None or math.isfinite(gap) else None
         m = self.record.metrics
@@ -275,8 +299,7 @@ class ClosedLoop:
         self.gateway.finish(t_s)
         if m.min_gap_m is not None and not np.isfinite(m.min_gap_m):
             m.min_gap_m = None
-        self.record.events[:0] = self.gateway.events
-        self.record.events[:0] = self.link.events
+        self.record.events = merge_events(self.link.events, self.gateway.events, self.record.events)
         report = self.link.report()
         self.record.timing = dict(report.timing)
         self.record.ecu_report = report.ecu_report

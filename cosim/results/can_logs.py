@@ -79,9 +79,19 @@ def _messages(record: RunRecord, start_s: float) -> Iterable[can.Message]:
                           is_extended_id=False, channel=0)
 
 
+def open_python_can_writer(path: Path, start: datetime) -> can.io.generic.MessageWriter:
+    """python-can's writer for ``path``'s suffix (ASC dated with ``start``); frames then take ``start`` + t."""
+    return _DatedASCWriter(path, start) if path.suffix.lower() == ".asc" else can.Logger(str(path))
+
+
+def streamed(name: str) -> bool:
+    """Whether a log is written while the run goes (python-can's writers) or at its end (MF4)."""
+    return PurePath(name).suffix.lower() != ".mf4"
+
+
 def _write_python_can(path: Path, record: RunRecord, start: datetime) -> None:
     start_s = start.timestamp()
-    writer = _DatedASCWriter(path, start) if path.suffix.lower() == ".asc" else can.Logger(str(path))
+    writer = open_python_can_writer(path, start)
     with writer:
         for msg in _messages(record, start_s):
             writer.on_message_received(msg)

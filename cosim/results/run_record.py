@@ -60,6 +60,16 @@ class RunRecord:
     timing: dict[str, float] = field(default_factory=dict)  # real time: the master's lag/jitter (s)
     ecu_report: str = ""  # what a spawned crd ecu printed (its run summary)
     ecu_join_wait_s: float = 0.0  # wall time spent waiting for an out-of-process ECU to join (in wall_time_s)
+    interrupted: str | None = None  # the signal that ended the run early ("SIGINT", "SIGTERM")
+
+    @property
+    def status(self) -> str:
+        """How the run ended: ``interrupted``, ``error``, ``collided`` or ``ok`` (ran its full duration)."""
+        if self.interrupted:
+            return "interrupted"
+        if self.error:
+            return "error"
+        return "collided" if self.metrics.collided else "ok"
 
     def column(self, name: str) -> list:
         i = TIMESERIES_COLUMNS.index(name)

@@ -16,6 +16,8 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
+import tempfile
 from dataclasses import fields
 from datetime import datetime
 from importlib.metadata import PackageNotFoundError, version
@@ -23,6 +25,7 @@ from pathlib import Path
 from typing import Iterable, Sequence
 
 from .can_logs import DEFAULT_CAN_LOG, write_can_logs
+from .events import event_counts
 from .run_record import TIMESERIES_COLUMNS, RunRecord
 from ..scenarios.config import Scenario
 from ..scenarios.resolve import scenario_to_dict
@@ -51,13 +54,47 @@ def _finite(x):
     return None if isinstance(x, float) and not math.isfinite(x) else x
 
 
-def write_metrics(path: Path, records: Iterable[RunRecord], prov: dict) -> None:
+def write_metrics(path: Path, records: Iterable[RunRecord], prov: dict, status: str = "complete",
+                  error: str | None = None) -> None:
+    """``metrics.json``, replaced in one step; ``status``: running, complete, interrupted or error
+    (an exception, or a run that stopped on an error; each run has its own ``status`` too).
+
+    Written before the first run (``running``), after each run, and on every way out of
+    :func:`cosim.loop.experiment.run_strategies`, so it always says how far the invocation got.
+    """
     runs = []
     for r in records:
         entry = {k: _finite(v) for k, v in r.metrics.as_dict().items()}
         entry["error"] = r.error
+        entry.update(run_status(r))
         runs.append(entry)
-    path.write_text(json.dumps({"runs": runs, "provenance": prov}, indent=2) + "\n")
+    write_json_atomic(path, {"status": status, "error": error, "runs": runs, "provenance": prov})
+
+
+def write_json_atomic(path: Path, data: object) -> None:
+    """``data`` as indented JSON at ``path``, replaced in one step (never half written)."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        umask = os.umask(0o022)
+        os.umask(umask)
+        os.fchmod(fd, 0o666 & ~umask)  # as open() would create it (mkstemp makes it 0600)
+        with os.fdopen(fd, "w") as handle:
+            handle.write(json.dumps(data, indent=2) + "\n")
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def run_status(record: RunRecord) -> dict:
+    """``status`` (ok, collided, error, interrupted), the signal of an interrupt and the events by kind."""
+    return {"status": record.status, "interrupted_by": record.interrupted, "event_counts": event_counts(record)}
+
+
+def timeseries_cells(row: tuple) -> list:
+    """One time-series row as CSV cells: time to 1 ms, other floats to 6 significant digits."""
+    return [f"{v:.6g}" if isinstance(v, float) and k else (f"{v:.3f}" if k == 0 else v) for k, v in enumerate(row)]
 
 
 def write_timeseries(path: Path, record: RunRecord) -> None:
@@ -65,8 +102,7 @@ def write_timeseries(path: Path, record: RunRecord) -> None:
         writer = csv.writer(handle)
         writer.writerow(TIMESERIES_COLUMNS)
         for row in record.rows:
-            writer.writerow([f"{v:.6g}" if isinstance(v, float) and k else (f"{v:.3f}" if k == 0 else v)
-                             for k, v in enumerate(row)])
+            writer.writerow(timeseries_cells(row))
 
 
 def write_events(path: Path, record: RunRecord) -> None:

@@ -93,6 +93,9 @@ class PlantConfig:
     ``wheel_radius_m`` converts wheel speeds (rad/s → m/s) and derives them
     from the speed when the FMU has none. ``front_bumper_offset_m`` is the
     front bumper's position relative to the FMU's position output.
+    ``isolation``: where the FMU runs (``cosim.world.plant.open_plant``);
+    ``step_timeout_s``: with ``process``, the longest any FMU call may take
+    before the run stops with an error naming the time.
     """
 
     fmu: str = "builtin"
@@ -100,6 +103,8 @@ class PlantConfig:
     road_friction: float = field(default=1.0, metadata=_r(0.0, 1.5))
     wheel_radius_m: float = field(default=0.31, metadata=_r(0.05, 2.0))
     front_bumper_offset_m: float = field(default=0.0, metadata=_r(-10.0, 10.0))
+    isolation: str = field(default="auto", metadata=_c("auto", "inprocess", "process"))
+    step_timeout_s: float = field(default=5.0, metadata=_r(0.01, 3600.0))
     accel_gain_mps2: float = field(default=3.0, metadata=_r(0.0, 20.0))
     brake_gain_mps2: float = field(default=9.0, metadata=_r(0.0, 20.0))
     #: speed at t = 0 (m/s), set through the ``[plant.initial]`` ``speed`` parameter
@@ -227,15 +232,25 @@ class EcuSection:
     parameters: Mapping[str, object] = field(default_factory=lambda: MappingProxyType({}))
 
 
+#: events ``[checks] expect_events`` may name: the faults that otherwise make a run exit 4
+#: (``cosim.results.events.FAULT_EVENTS``)
+EXPECTABLE_EVENTS = ("ecu_lost", "second_ecu", "auth_failure", "ecu_security_fault")
+
+
 @dataclass(frozen=True)
 class ChecksConfig:
-    """``[checks]``: expectations on the run's metrics; ``None`` = not checked."""
+    """``[checks]``: expectations on the run's metrics; ``None`` = not checked.
+
+    ``expect_events``: fault events this scenario provokes on purpose (e.g. ``["ecu_lost"]``):
+    each must occur (else the check fails, exit 3), and does not make the run exit 4.
+    """
 
     no_collision: bool | None = None
     min_gap_m: float | None = field(default=None, metadata=_r(-1e5, 1e5))
     max_impact_speed_mps: float | None = field(default=None, metadata=_r(0.0, 200.0))
     min_contingency_invocations: int | None = field(default=None, metadata=_r(0, 10**6))
     max_contingency_invocations: int | None = field(default=None, metadata=_r(0, 10**6))
+    expect_events: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

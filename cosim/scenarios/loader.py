@@ -31,6 +31,7 @@ from .config import (
     OUTPUT_ROLES,
     INITIAL_ROLES,
     ChecksConfig,
+    EXPECTABLE_EVENTS,
     DriverConfig,
     EcuSection,
     EndConfig,
@@ -181,6 +182,17 @@ def _points(value: Any, path: str) -> tuple[tuple[float, float, float], ...]:
     return tuple(rows)
 
 
+def _expect_events(value: Any, path: str) -> tuple[str, ...]:
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise ConfigError(f"{path}: expected a list of event names, got {value!r}")
+    for name in value:
+        if name not in EXPECTABLE_EVENTS:
+            close = difflib.get_close_matches(name, EXPECTABLE_EVENTS, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ConfigError(f"{path}: expected event names from {list(EXPECTABLE_EVENTS)}, got {name!r}{hint}")
+    return tuple(dict.fromkeys(value))
+
+
 def _section(cls: type, table: Any, path: str) -> Any:
     if not isinstance(table, Mapping):
         raise ConfigError(f"{path}: expected a table, got {table!r}")
@@ -206,6 +218,8 @@ def _section(cls: type, table: Any, path: str) -> Any:
             kwargs[key] = _signal_maps(value, INITIAL_ROLES, where)
         elif key == "points":
             kwargs[key] = _points(value, where)
+        elif key == "expect_events":
+            kwargs[key] = _expect_events(value, where)
         else:
             kwargs[key] = _plain_field(fields[key], hints[key], value, where)
     return cls(**kwargs)

@@ -5,7 +5,7 @@ import os
 import pytest
 
 from can_dbc import KeyFileError, generate_key, load_key_file, write_key_file
-from cosim.cli.ecu_options import EXIT_SECURITY, security_exit
+from cosim.results.events import EXIT_FAULT_EVENT, fault_exit
 from cosim.cli.main import main as crd
 from cosim.results.run_record import RunEvent, RunMetrics, RunRecord
 
@@ -62,9 +62,12 @@ def test_a_key_file_readable_by_others_is_a_one_line_error(tmp_path, capsys):
 
 def test_security_events_make_the_exit_status_4():
     record = RunRecord("none", RunMetrics("none"))
-    assert security_exit([record]) == 0
+    assert fault_exit([record]) == 0
     record.events.append(RunEvent(1.0, "auth_failure", "forged"))
-    assert security_exit([record]) == EXIT_SECURITY == 4
+    assert fault_exit([record]) == EXIT_FAULT_EVENT == 4
+    record.events.append(RunEvent(1.1, "ecu_security_fault", "ECU reports FaultAuth"))
+    assert fault_exit([record], expected=["auth_failure"]) == 4
+    assert fault_exit([record], expected=["auth_failure", "ecu_security_fault"]) == 0
 
 
 def test_runs_authenticate_by_default(tmp_path):

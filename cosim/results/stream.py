@@ -1,0 +1,119 @@
+"""Results that survive: output paths checked before a run, files written while it runs.
+
+* :func:`check_out_dir` runs before any simulation: ``--out`` and each
+  strategy's directory must be (or become) writable directories; a path under
+  a regular file, or in a directory that cannot be written, is a
+  :class:`~cosim.errors.ConfigError` naming the path, at once instead of
+  after the run.
+* :class:`RunStream` writes one strategy's ``timeseries.csv`` and CAN logs
+  (all but MF4, which asammdf writes at the end) as the run goes:
+  :meth:`RunStream.flush` (called every 100 ECU cycles, i.e. every simulated
+  second) appends the rows and frames recorded since the last
+  call and hands them to the operating system, so a run killed at any moment
+  leaves its files complete up to the last simulated second. :meth:`close`
+  writes the rest and closes the files (the BLF header gets its statistics).
+  The rows and frames stay in the :class:`RunRecord` too (the metrics, plots
+  and tests use them); the cost is the same formatting the end-of-run writer
+  did, spread over the run.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from datetime import datetime
+from pathlib import Path
+from typing import Iterable, Sequence
+
+import can
+from can.io.generic import FileIOMessageWriter
+
+from ..errors import ConfigError
+from .can_logs import open_python_can_writer, streamed, write_can_logs
+from .run_record import TIMESERIES_COLUMNS, RunRecord
+from .writer import timeseries_cells
+
+
+def check_out_dir(out_dir: Path, subdirs: Iterable[str] = ()) -> None:
+    """ConfigError naming the path unless ``out_dir`` (and ``out_dir/<sub>``) can be created and written.
+
+    Creates nothing (a run refused later for another reason leaves no directory behind): every
+    existing part of each path must be a directory, and the deepest existing one writable.
+    """
+    out_dir = Path(out_dir)
+    for path in [out_dir, *(out_dir / s for s in subdirs)]:
+        parts = [*reversed(path.parents), path]
+        blocker = next((p for p in parts if p.exists() and not p.is_dir()), None)
+        if blocker is not None:
+            raise ConfigError(f"--out {out_dir}: cannot write results under {blocker}: it is a file, not a directory")
+        deepest = [p for p in parts if p.exists()][-1]
+        if not os.access(deepest, os.W_OK | os.X_OK):
+            raise ConfigError(f"--out {out_dir}: cannot write results in {deepest}: permission denied")
+
+
+class RunStream:
+    """One run's ``timeseries.csv`` and CAN logs, written while it runs (see the module docstring).
+
+    Every log python-can writes (BLF, ASC, TRC, ``.log``, CSV) is streamed; an MF4 log
+    (asammdf) is written from the record when the stream closes.
+    """
+
+    def __init__(self, run_dir: Path, can_logs: Sequence[str], start: datetime) -> None:
+        run_dir.mkdir(parents=True, exist_ok=True)
+        self._run_dir, self._start, self._start_s = run_dir, start, start.timestamp()
+        self._rows = self._frames = 0
+        self._at_end = [name for name in can_logs if not streamed(name)]
+        self._writers: list = []
+        self._csv_file = open(run_dir / "timeseries.csv", "w", newline="")
+        try:
+            self._csv = csv.writer(self._csv_file)
+            self._csv.writerow(TIMESERIES_COLUMNS)
+            for name in can_logs:
+                if streamed(name):
+                    self._writers.append(open_python_can_writer(run_dir / name, start))
+        except BaseException:
+            self._stop_all()
+            raise
+        self.closed = False
+
+    def flush(self, record: RunRecord) -> None:
+        """Write ``record``'s rows and frames added since the last call and pass them to the OS."""
+        rows = record.rows
+        writerow = self._csv.writerow
+        for row in rows[self._rows:]:
+            writerow(timeseries_cells(row))
+        self._rows = len(rows)
+        frames, start_s = record.frames, self._start_s
+        logs = [w.on_message_received for w in self._writers]
+        for f in frames[self._frames:]:
+            msg = can.Message(timestamp=start_s + f.t_s, arbitration_id=f.arbitration_id, data=f.data,
+                              is_extended_id=False, channel=0)
+            for log in logs:
+                log(msg)
+        self._frames = len(frames)
+        self._csv_file.flush()
+        for writer in self._writers:
+            if isinstance(writer, can.BLFWriter):
+                writer._flush()  # noqa: SLF001 - python-can has no public call to close the current container
+            if isinstance(writer, FileIOMessageWriter):
+                writer.file.flush()
+
+    def close(self, record: RunRecord | None) -> None:
+        """Write the rest of ``record`` (None: nothing more), close the files, write the MF4 logs; idempotent."""
+        if self.closed:
+            return
+        self.closed = True
+        try:
+            if record is not None:
+                self.flush(record)
+        finally:
+            self._stop_all()
+        if record is not None and self._at_end:
+            write_can_logs(self._run_dir, record, self._at_end, self._start)
+
+    def _stop_all(self) -> None:
+        try:
+            for writer in self._writers:
+                writer.stop()
+        finally:
+            self._csv_file.close()
