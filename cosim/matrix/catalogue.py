@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -37,6 +36,7 @@ from typing import Any, Mapping
 
 from ..errors import ConfigError
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S
+from ..scenarios.loader import load_toml_file
 
 KMH = 3.6
 SCORINGS = ("r152", "ncap", "false_positive", "follow")
@@ -164,13 +164,7 @@ def resolve_path(spec: str) -> Path:
 def load_catalogue(spec: str | Path) -> Catalogue:
     """Read and check one catalogue; errors name the file and the key."""
     path = resolve_path(str(spec))
-    try:
-        data = tomllib.loads(path.read_text())
-        return _build(data, path)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: invalid TOML: {exc}") from None
-    except ConfigError as exc:
-        raise ConfigError(f"{path}: {exc}") from None
+    return load_toml_file(path, lambda data: _build(data, path), "catalogue")
 
 
 def _need(table: Mapping[str, Any], key: str, where: str, kind: type | tuple) -> Any:

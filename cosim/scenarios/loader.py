@@ -18,7 +18,7 @@ import tomllib
 import typing
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping, TypeVar
 
 from can_dbc.contract import ECU_CYCLE_S
 from ecu import EcuConfig
@@ -43,6 +43,8 @@ from .config import (
     ScenarioSection,
     SignalMap,
 )
+
+T = TypeVar("T")
 
 _SECTIONS = {
     "scenario": ScenarioSection, "plant": PlantConfig, "driver": DriverConfig,
@@ -301,16 +303,24 @@ def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) ->
     return Scenario(**sections)
 
 
-def load_scenario(path: str | Path) -> Scenario:
-    """Read and check a scenario TOML file; errors are :class:`ConfigError` with the file name."""
-    path = Path(path)
+def load_toml_file(path: Path, build: Callable[[dict], T], what: str) -> T:
+    """``build(parsed TOML)``; a missing file, bad TOML or a :class:`ConfigError` becomes one ConfigError naming the file.
+
+    Shared by the scenario, sweep and catalogue loaders (``what`` names the kind of file).
+    """
     try:
         data = tomllib.loads(path.read_text())
     except FileNotFoundError:
-        raise ConfigError(f"{path}: scenario file not found") from None
+        raise ConfigError(f"{path}: {what} file not found") from None
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: invalid TOML: {exc}") from None
     try:
-        return scenario_from_dict(data, base_dir=path.parent)
+        return build(data)
     except ConfigError as exc:
         raise ConfigError(f"{path}: {exc}") from None
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and check a scenario TOML file; errors are :class:`ConfigError` with the file name."""
+    path = Path(path)
+    return load_toml_file(path, lambda data: scenario_from_dict(data, base_dir=path.parent), "scenario")

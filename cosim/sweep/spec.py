@@ -38,7 +38,6 @@ Whether each axis's path exists in the scenario is checked by
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -46,6 +45,7 @@ from typing import Any, Mapping
 
 from ..errors import ConfigError
 from ..scenarios.loader import _unknown as unknown_key_error
+from ..scenarios.loader import load_toml_file
 
 MODES = ("grid", "monte_carlo", "one_at_a_time")
 DISTRIBUTIONS = {  # name -> required parameters (choice also takes optional weights)
@@ -276,13 +276,4 @@ def sweep_from_dict(data: Mapping[str, Any], source: Path) -> SweepSpec:
 def load_sweep(name_or_path: str | Path) -> SweepSpec:
     """Read a sweep file (or a bundled sweep by name); errors are one-line ConfigErrors naming the file."""
     path = find_sweep(name_or_path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except FileNotFoundError:
-        raise ConfigError(f"{path}: sweep file not found") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: invalid TOML: {exc}") from None
-    try:
-        return sweep_from_dict(data, path.resolve())
-    except ConfigError as exc:
-        raise ConfigError(f"{path}: {exc}") from None
+    return load_toml_file(path, lambda data: sweep_from_dict(data, path.resolve()), "sweep")
