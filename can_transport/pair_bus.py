@@ -39,7 +39,6 @@ from __future__ import annotations
 
 import collections
 import logging
-import os
 import select
 import socket
 import time

@@ -27,7 +27,6 @@ Scenario of a cell (times from t = 0, when the ego is at its test speed):
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 from importlib import resources
@@ -254,7 +253,3 @@ def _checked(key: str, value: Any, where: str) -> Any:
         raise ConfigError(f"{where}: expected {expected}, got {value!r}")
     return value
 
-
-def replace_params(cell: Cell, **changes: Any) -> Cell:
-    """A copy of ``cell`` with some parameters changed (tests, what-if runs)."""
-    return dataclasses.replace(cell, params={**cell.params, **changes})

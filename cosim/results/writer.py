@@ -1,10 +1,9 @@
 """Writers for a run's outputs (``--out DIR``).
 
 * ``metrics.json``: ``{"runs": [...], "provenance": {...}}``;
-* ``<strategy>/timeseries.csv``: one row per 10 ms ECU cycle;
-* ``<strategy>/can.blf`` and any further ``--can-log`` files (BLF, ASC, MF4, ...):
-  every bus frame, stamped with the run's start time plus its simulation time
-  (:mod:`cosim.results.can_logs`);
+* ``<strategy>/timeseries.csv`` (one row per 10 ms ECU cycle) and the CAN logs are
+  streamed while the run goes by :class:`cosim.results.stream.RunStream`, which uses
+  :func:`timeseries_cells` here and :mod:`cosim.results.can_logs`;
 * ``<strategy>/events.json``: gateway fallbacks, collision, FMI error;
 * ``config.resolved.toml``: every resolved value, loadable by ``crd run``;
   its header and ``metrics.json`` carry the FMU's sha256, the package version
@@ -19,12 +18,10 @@ import math
 import os
 import tempfile
 from dataclasses import fields
-from datetime import datetime
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Iterable, Sequence
+from typing import Iterable
 
-from .can_logs import DEFAULT_CAN_LOG, write_can_logs
 from .events import event_counts
 from .run_record import TIMESERIES_COLUMNS, RunRecord
 from ..scenarios.config import Scenario
@@ -122,16 +119,3 @@ def write_resolved_config(path: Path, scenario: Scenario, ecu_config, prov: dict
     ])
     path.write_text(dumps(data, header=header))
 
-
-def write_run(out_dir: Path, record: RunRecord, start: datetime,
-              can_logs: Sequence[str] = (DEFAULT_CAN_LOG,)) -> Path:
-    """Write one strategy's files under ``out_dir/<strategy>/``; returns that directory.
-
-    ``start`` is the absolute time of t = 0 (``[scenario] start_time``) for the CAN logs.
-    """
-    run_dir = out_dir / record.strategy
-    run_dir.mkdir(parents=True, exist_ok=True)
-    write_timeseries(run_dir / "timeseries.csv", record)
-    write_can_logs(run_dir, record, can_logs, start)
-    write_events(run_dir / "events.json", record)
-    return run_dir

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+
+from tests.os_processes import build_pythonfmu
 
 HERE = Path(__file__).resolve().parent
 
@@ -20,7 +20,4 @@ def plant_fmu3() -> Path:
 
 @pytest.fixture(scope="session")
 def point_mass_fmu(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("fixture_fmu")
-    subprocess.run([sys.executable, "-m", "pythonfmu", "build", "-f", str(HERE / "point_mass_slave.py"),
-                    "-d", str(out)], check=True, capture_output=True)
-    return out / "PointMass.fmu"
+    return build_pythonfmu(HERE / "point_mass_slave.py", tmp_path_factory.mktemp("fixture_fmu"), "PointMass")

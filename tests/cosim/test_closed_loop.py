@@ -4,7 +4,6 @@ import json
 import subprocess
 import sys
 from datetime import datetime
-from pathlib import Path
 
 import can
 import cantools

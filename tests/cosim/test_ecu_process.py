@@ -24,6 +24,7 @@ from cosim.link.ecu_process import EcuProcess
 from cosim.loop.master import ClosedLoop, ecu_config, run_scenario
 from cosim.results.writer import write_timeseries
 from cosim.scenarios.loader import load_scenario, scenario_from_dict
+from tests.os_processes import process_gone
 
 #: a short scenario in which the tightening ECU limits the throttle (object 25 m ahead)
 SHORT = {"scenario": {"duration_s": 3.0}, "object": {"position_m": 25.0}}
@@ -34,16 +35,6 @@ def sock_dir():
     path = Path(tempfile.mkdtemp(prefix="crd-t-"))  # short: a socket path is at most 107 bytes
     yield path
     shutil.rmtree(path, ignore_errors=True)
-
-
-def _gone(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return True
-    # a zombie is not running; it is reaped by its parent's wait()
-    with open(f"/proc/{pid}/stat") as f:
-        return f.read().split(")")[-1].split()[0] == "Z"
 
 
 def _timeseries(tmp_path: Path, name: str, record) -> bytes:
@@ -65,7 +56,7 @@ def test_paper_scenario_in_process_and_as_a_process_are_identical(plant_fmu3, tm
     assert _timeseries(tmp_path, "in", inproc) == _timeseries(tmp_path, "proc", proc)
     assert [e for e in proc.events if e.kind in ("ecu_lost", "bus_error", "second_ecu")] == []
     assert f"ecu {strategy}: final mode" in proc.ecu_report  # the child stopped cleanly and said so
-    assert _gone(pid)
+    assert process_gone(pid)
 
 
 def test_killing_the_ecu_mid_run_falls_back_to_the_driver_and_finishes(plant_fmu3):
@@ -90,7 +81,7 @@ def test_killing_the_ecu_mid_run_falls_back_to_the_driver_and_finishes(plant_fmu
     assert modes == {"NO_OVERRIDE"}
     # driver only: full throttle, no brake, from the cycle after the fallback
     assert all(row[4] == 1.0 and row[5] == 0.0 for row in rec.rows if row[0] > timeout[0].t_s + 0.011)
-    assert _gone(pid)
+    assert process_gone(pid)
 
 
 def test_the_cosimulation_waits_for_an_ecu_that_starts_later(plant_fmu3, sock_dir):

@@ -21,7 +21,7 @@ import pytest
 from ecu import ECU_CYCLE_S
 from ecu.bus_port import fault_flags_of
 
-from .inputs import STARTUP_S, drive, in_standby, obj, wheels
+from .inputs import drive, in_standby, obj, wheels
 
 T_H = 0.11
 A_DRV = 3.0

@@ -2,21 +2,18 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+
+from tests.os_processes import build_pythonfmu
 
 HERE = Path(__file__).resolve().parent
 
 
 @pytest.fixture(scope="session")
 def faulty_fmu(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("faulty_fmu")
-    subprocess.run([sys.executable, "-m", "pythonfmu", "build", "-f", str(HERE / "faulty_slave.py"),
-                    "-d", str(out)], check=True, capture_output=True)
-    return out / "Faulty.fmu"
+    return build_pythonfmu(HERE / "faulty_slave.py", tmp_path_factory.mktemp("faulty_fmu"), "Faulty")
 
 
 @pytest.fixture(scope="session")

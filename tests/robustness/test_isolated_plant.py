@@ -14,6 +14,7 @@ import pytest
 from cosim.loop.master import ClosedLoop
 from cosim.scenarios.loader import scenario_from_dict
 from cosim.world.plant_process import IsolatedPlant
+from tests.os_processes import process_gone
 
 
 def _scenario(fault: int, isolation: str = "process", timeout_s: float = 1.0):
@@ -36,14 +37,6 @@ def _run(faulty_fmu, fault: int, **kw):
     return record, pid, time.monotonic() - t0
 
 
-def _gone(pid: int) -> bool:
-    try:
-        with open(f"/proc/{pid}/status") as handle:
-            return "zombie" in handle.read()
-    except FileNotFoundError:
-        return True
-
-
 @pytest.mark.parametrize("fault, cause", [(1, "SIGABRT"), (2, "SIGSEGV")])
 def test_a_crash_in_dostep_stops_the_run_with_time_and_cause(faulty_fmu, fault, cause):
     record, pid, _ = _run(faulty_fmu, fault)
@@ -51,28 +44,28 @@ def test_a_crash_in_dostep_stops_the_run_with_time_and_cause(faulty_fmu, fault, 
     assert record.metrics.sim_time_s == pytest.approx(1.0, abs=0.011)
     assert len(record.rows) >= 99  # the results up to the crash are kept
     assert any(e.kind == "fmi_error" for e in record.events)
-    assert _gone(pid)
+    assert process_gone(pid)
 
 
 def test_a_hang_in_dostep_is_detected_within_the_timeout(faulty_fmu):
     record, pid, wall_s = _run(faulty_fmu, 3, timeout_s=0.5)
     assert record.error is not None and "hung" in record.error and "t = 1.0" in record.error
     assert wall_s < 0.5 + 1.0 + 3.0  # timeout + 1 s, plus the child's start-up and the 1 s of driving
-    assert _gone(pid)
+    assert process_gone(pid)
 
 
 def test_nan_output_names_the_time_and_the_variable(faulty_fmu):
     record, pid, _ = _run(faulty_fmu, 4)
     assert record.error is not None and "'v_mps'" in record.error and "nan" in record.error
     assert "t = 1.0" in record.error
-    assert _gone(pid)
+    assert process_gone(pid)
 
 
 def test_a_hang_in_terminate_does_not_lose_a_finished_run(faulty_fmu):
     record, pid, wall_s = _run(faulty_fmu, 5, timeout_s=0.5)
     assert record.error is None
     assert record.metrics.sim_time_s == pytest.approx(3.0)
-    assert _gone(pid)
+    assert process_gone(pid)
 
 
 def test_auto_isolates_third_party_fmus_only(faulty_fmu):

@@ -28,18 +28,10 @@ from cosim.link.ecu_link import EcuOptions
 from cosim.loop.master import ClosedLoop, run_scenario
 from cosim.results.events import KEEP_FIRST, SUPPRESSED
 from cosim.scenarios.loader import scenario_from_dict
+from tests.os_processes import process_gone
 
 #: the tightening ECU limits the throttle (object 25 m ahead): a lost ECU changes the result
 SHORT = {"scenario": {"duration_s": 3.0}, "object": {"position_m": 25.0}}
-
-
-def _gone(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return True
-    with open(f"/proc/{pid}/stat") as f:
-        return f.read().split(")")[-1].split()[0] == "Z"
 
 
 def _comparable(record) -> dict:
@@ -67,7 +59,7 @@ def test_sigstop_for_2_s_is_waited_out_and_the_run_is_unchanged(plant_fmu3):
         record = loop.run(progress=stop_at_1s)
     finally:
         resume.cancel()
-        if not _gone(pid):
+        if not process_gone(pid):
             os.kill(pid, signal.SIGCONT)
     assert stopped and record.error is None and record.status == "ok"
     assert _comparable(record) == _comparable(reference) and record.rows == reference.rows
@@ -75,7 +67,7 @@ def test_sigstop_for_2_s_is_waited_out_and_the_run_is_unchanged(plant_fmu3):
     assert "ecu_lost" not in kinds and "second_ecu" not in kinds
     stall = [e for e in record.events if e.kind == "ecu_stall"]
     assert len(stall) == 1 and stall[0].t_s == pytest.approx(1.0, abs=0.011)
-    assert _gone(pid)
+    assert process_gone(pid)
 
 
 @pytest.mark.wallclock
@@ -93,7 +85,7 @@ def test_a_stall_past_the_limit_stops_the_run_loudly(plant_fmu3):
         record = loop.run(progress=stop_at_1s)
         wall_s = time.monotonic() - started
     finally:
-        if not _gone(pid):
+        if not process_gone(pid):
             os.kill(pid, signal.SIGCONT)
     assert record.status == "error" and "ECU stalled" in record.error and "t = 1.0" in record.error
     assert "--stall-timeout 1 s" in record.error
@@ -101,7 +93,7 @@ def test_a_stall_past_the_limit_stops_the_run_loudly(plant_fmu3):
     assert record.rows[-1][0] == pytest.approx(1.0, abs=0.011)  # results up to the stall kept
     assert [e.kind for e in record.events if e.kind in ("ecu_stalled", "ecu_lost")] == ["ecu_stalled"]
     assert wall_s < 1.0 + 20.0  # the limit, plus start-up, the 1 s of driving and stopping the child
-    assert _gone(pid)  # stopped by PID although it was SIGSTOPped
+    assert process_gone(pid)  # stopped by PID although it was SIGSTOPped
 
 
 def _scenario_file(tmp_path, expect: str = "") -> str:

@@ -12,7 +12,6 @@ streamed time series shows 3 simulated seconds, signal it by PID and wait for it
 from __future__ import annotations
 
 import json
-import os
 import signal
 import subprocess
 import sys
