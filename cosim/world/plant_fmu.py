@@ -81,6 +81,73 @@ def _resolve(md, names: tuple[str, ...], causality: str, where: str) -> list:
     return found
 
 
+def _read_md(path: Path):
+    try:
+        return read_model_description(str(path))
+    except Exception as exc:  # noqa: BLE001 - any broken archive becomes one typed error
+        raise PlantError(f"{path}: not a readable FMU: {exc}") from exc
+
+
+class SharedFmu:
+    """One FMU file prepared once for many runs in this process (a sweep worker): hashed, its model
+    description read, extracted, and (at the first plant) its shared library loaded.
+
+    A :class:`FmuPlant` opened on the path of a shared FMU (:func:`share_fmu`) skips all that and
+    reuses the loaded library (fmpy's ``FMU2Slave``/``FMU3Slave`` object): it instantiates its own
+    instance and, when closed, terminates and frees only that instance (``fmi2FreeInstance`` /
+    ``fmi3FreeInstance``), leaving the library loaded. FMI allows instances to come and go in one
+    loaded library; a run's results are bit-identical to a fresh load (``tests/cosim/test_sweep_reuse.py``).
+    One plant uses it at a time; a second one opened meanwhile loads its own copy as usual.
+    """
+
+    def __init__(self, path: Path) -> None:
+        self.path = Path(path)
+        self.sha256, self.md = file_sha256(self.path), _read_md(self.path)
+        self.unzipdir = extract(str(self.path))
+        self.slave = None  # fmpy FMU2Slave/FMU3Slave, made by the first plant
+        self.busy = False
+
+    def release(self, fmu) -> None:
+        """Terminate and free one plant's instance; the library stays loaded."""
+        if fmu.component is None:
+            return
+        try:
+            fmu.terminate()
+        except FMICallException as exc:
+            log.warning("plant FMU terminate failed: %s", exc)
+        try:
+            getattr(fmu, f"fmi{self.md.fmiVersion[0]}FreeInstance")(fmu.component)
+        except Exception as exc:  # noqa: BLE001 - best effort after a failure
+            log.warning("plant FMU freeInstance failed: %s", exc)
+        fmu.component = None
+
+    def close(self) -> None:
+        """Unload the library and delete the extraction (no plant may be using it)."""
+        slave, self.slave = self.slave, None
+        if slave is not None:
+            slave.freeLibrary()
+        shutil.rmtree(self.unzipdir, ignore_errors=True)
+
+
+_SHARED: dict[Path, SharedFmu] = {}  # path -> prepared FMU, in this process
+
+
+def share_fmu(path: Path) -> SharedFmu:
+    """Prepare the FMU at ``path`` once for every later :class:`FmuPlant` on that path in this process."""
+    path = Path(path)
+    shared = _SHARED.get(path)
+    if shared is None:
+        shared = _SHARED[path] = SharedFmu(path)
+    return shared
+
+
+def unshare_fmu(path: Path) -> None:
+    """Forget (and unload) the shared FMU at ``path``; plants opened later load it per run again."""
+    shared = _SHARED.pop(Path(path), None)
+    if shared is not None:
+        shared.close()
+
+
 class FmuPlant:
     """The plant FMU, instantiated, initialised and ready to :meth:`step`."""
 
@@ -88,11 +155,8 @@ class FmuPlant:
         self.path = Path(fmu_path)
         if not self.path.is_file():
             raise PlantError(f"plant FMU not found: expected a file at {self.path}")
-        self.sha256 = file_sha256(self.path)
-        try:
-            md = read_model_description(str(self.path))
-        except Exception as exc:  # noqa: BLE001 - any broken archive becomes one typed error
-            raise PlantError(f"{self.path}: not a readable FMU: {exc}") from exc
+        shared = _SHARED.get(self.path)  # prepared once for many runs (a sweep worker), or None
+        self.sha256, md = (shared.sha256, shared.md) if shared else (file_sha256(self.path), _read_md(self.path))
         if md.coSimulation is None:
             raise PlantError(f"{self.path}: expected a co-simulation FMU, got model exchange only")
         self.fmi_version = int(md.fmiVersion[0])
@@ -104,11 +168,14 @@ class FmuPlant:
         self._cfg = cfg
         self._md = md
         self._resolve_roles()
-        self._unzipdir = extract(str(self.path))
+        self._shared = shared if shared is not None and not shared.busy else None  # busy: load a copy
+        if self._shared is not None:
+            self._shared.busy = True
+        self._unzipdir = self._shared.unzipdir if self._shared is not None else extract(str(self.path))
         self._fmu = None
         try:
             self._open(start_time_s)
-        except PlantError:
+        except BaseException:
             self.close()
             raise
 
@@ -152,8 +219,12 @@ class FmuPlant:
         cls = FMU2Slave if self.fmi_version == 2 else FMU3Slave
         guid = self._md.guid if self.fmi_version == 2 else self._md.instantiationToken
         try:
-            self._fmu = cls(guid=guid, unzipDirectory=self._unzipdir,
-                            modelIdentifier=self._md.coSimulation.modelIdentifier, instanceName="plant")
+            self._fmu = self._shared.slave if self._shared is not None else None
+            if self._fmu is None:
+                self._fmu = cls(guid=guid, unzipDirectory=self._unzipdir,
+                                modelIdentifier=self._md.coSimulation.modelIdentifier, instanceName="plant")
+                if self._shared is not None:
+                    self._shared.slave = self._fmu
             self._fmu.instantiate()
             if self.fmi_version == 2:
                 self._fmu.setupExperiment(startTime=start_time_s)
@@ -263,7 +334,9 @@ class FmuPlant:
     def close(self) -> None:
         """Terminate and free the FMU; safe to call twice."""
         fmu, self._fmu = self._fmu, None
-        if fmu is not None:
+        if fmu is not None and self._shared is not None:
+            self._shared.release(fmu)
+        elif fmu is not None:
             try:
                 fmu.terminate()
             except FMICallException as exc:
@@ -272,6 +345,10 @@ class FmuPlant:
                 fmu.freeInstance()
             except Exception as exc:  # noqa: BLE001 - best effort after a failure
                 log.warning("plant FMU freeInstance failed: %s", exc)
+        shared, self._shared = self._shared, None
+        if shared is not None:
+            shared.busy = False
+            self._unzipdir = None  # the shared extraction outlives this plant
         if self._unzipdir:
             shutil.rmtree(self._unzipdir, ignore_errors=True)
             self._unzipdir = None
