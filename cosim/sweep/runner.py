@@ -9,15 +9,23 @@ The client reads the plant FMU once and registers a worker plugin carrying its
 bytes (:class:`cosim.sweep.task.FmuShipper`): every worker, including one that
 restarts, caches the file by hash before it takes a run, and the runs name it
 by hash. No run depends on data held by another worker, so none is lost with a
-dead worker and the scheduler places runs on idle workers only. Each run is one
-task returning one row. A task whose worker dies is rescheduled once
-(``distributed.scheduler.allowed-failures = 1`` on the local scheduler; an
-existing scheduler keeps its own setting), then Dask raises ``KilledWorker``
-and the run is recorded as failed. Dask counts a death against every task
-*assigned* to the dying worker, so the client keeps only as many runs in
-flight as the cluster has threads: each worker holds the one run it is
-running, and a crash is counted against that run alone. Rows are handed to the
-:class:`~cosim.sweep.table.ResultsTable` as they complete.
+dead worker and the scheduler places runs on idle workers only.
+
+Each task runs a *chunk* of runs (:func:`chunk_size`: up to :data:`MAX_CHUNK`,
+fewer towards the end) and returns their rows; chunks cut the scheduler round
+trips per run, and rows, seeds and keys are per run, so the table does not
+depend on the chunking. The client keeps one chunk in flight per cluster
+thread, so a worker holds only the chunk it is running (Dask counts a death
+against every task assigned to the dying worker). A task whose worker dies
+(``KilledWorker``) has its runs put back, each to be retried once *alone*; a
+retried run whose worker dies again is recorded as failed. So every run is
+attempted at most twice and a run that kills its worker is singled out. The
+local scheduler gives up on a task at the first death
+(``distributed.scheduler.allowed-failures = 0``) so that the retry is the
+client's; an existing scheduler keeps its own setting (Dask's default retries
+three times before the client's retry). Rows are handed to the
+:class:`~cosim.sweep.table.ResultsTable` as chunks complete; a sweep killed
+mid-way loses at most the chunks in flight.
 """
 
 from __future__ import annotations
@@ -27,22 +35,24 @@ import itertools
 import logging
 import os
 import time
+from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Protocol
 
 import dask
-from distributed import Client, LocalCluster, as_completed
+from distributed import Client, KilledWorker, LocalCluster, as_completed
 
 from .plan import RunSpec, SweepPlan
 from .table import ResultsTable, write_timeseries
-from .task import FmuShipper, failed_row, run_one
+from .task import FmuShipper, RunTask, failed_row, run_chunk, run_one
 
 log = logging.getLogger(__name__)
 
 LOCALHOST = "127.0.0.1"
-RETRIES_AFTER_WORKER_DEATH = 1
-_LOCAL_SCHEDULER_CONFIG = {"distributed.scheduler.allowed-failures": RETRIES_AFTER_WORKER_DEATH}
+MAX_CHUNK = 8  # runs per task at most (see chunk_size)
+#: the local scheduler gives up on a task at its worker's first death; the client retries (runner docstring)
+_LOCAL_SCHEDULER_CONFIG = {"distributed.scheduler.allowed-failures": 0}
 
 
 @dataclass(frozen=True)
@@ -76,7 +86,7 @@ class SweepProgress(Protocol):
     def close(self) -> None: ...
 
 
-Task = Callable[[RunSpec, str, bool], dict]
+Task = RunTask
 
 
 def dashboard_available() -> bool:
@@ -125,31 +135,72 @@ class _Threads:
         return self._value
 
 
-def _collect(client: Client, submit: Callable[[RunSpec], Any], todo: list[RunSpec], table: ResultsTable,
-             out_dir: Path, progress: SweepProgress | None, outcome: SweepOutcome) -> None:
-    """Keep one run in flight per cluster thread; hand each row to the table as it arrives."""
-    pending, threads = iter(todo), _Threads(client)
-    in_flight = {submit(run): run for run in itertools.islice(pending, threads())}
-    completed = as_completed(list(in_flight), loop=client.loop)
-    for future in completed:
-        run = in_flight.pop(future)
+def chunk_size(remaining: int, threads: int, max_chunk: int = MAX_CHUNK) -> int:
+    """Runs in the next task: a quarter of each thread's share of what is left, 1..``max_chunk``.
+
+    Large chunks early cut the scheduler round trips; small ones at the end keep the
+    workers finishing together (guided self-scheduling).
+    """
+    return max(1, min(max_chunk, remaining // (4 * threads)))
+
+
+class _Dispatch:
+    """Runs waiting, chunks in flight (one per cluster thread) and the retries after a worker death."""
+
+    def __init__(self, client: Client, submit: Callable[[list[RunSpec]], Any], todo: list[RunSpec]) -> None:
+        self.client, self.submit, self.threads = client, submit, _Threads(client)
+        self.waiting: deque[tuple[RunSpec, bool]] = deque((run, False) for run in todo)
+        self.in_flight: dict[Any, tuple[list[RunSpec], bool]] = {}
+        self.completed = as_completed([], loop=client.loop)
+
+    def fill(self) -> None:
+        """Submit chunks until each cluster thread has one (a retry goes alone)."""
+        while self.waiting and len(self.in_flight) < self.threads():
+            run, retry = self.waiting.popleft()
+            runs = [run]
+            if not retry:
+                n = chunk_size(len(self.waiting) + 1, self.threads())
+                while len(runs) < n and self.waiting and not self.waiting[0][1]:
+                    runs.append(self.waiting.popleft()[0])
+            future = self.submit(runs)
+            self.in_flight[future] = (runs, retry)
+            self.completed.add(future)
+
+    def rows(self, future) -> list[dict[str, Any]]:
+        """The rows of a finished chunk; after a worker death its runs wait for one retry each (no rows yet)."""
+        runs, retry = self.in_flight.pop(future)
         try:
-            row = future.result()
-        except Exception as exc:  # noqa: BLE001 - KilledWorker after the retry, or a lost task
-            row = failed_row(run, f"{type(exc).__name__}: {exc}")
+            rows = future.result()
+        except KilledWorker as exc:
+            if retry:
+                rows = [failed_row(runs[0], f"{type(exc).__name__}: {exc}")]
+            else:
+                log.warning("a worker died running %d run(s); each is retried once on its own", len(runs))
+                self.waiting.extendleft((run, True) for run in reversed(runs))
+                rows = []
+        except Exception as exc:  # noqa: BLE001 - a lost or cancelled task: its runs are recorded as failed
+            rows = [failed_row(run, f"{type(exc).__name__}: {exc}") for run in runs]
         future.release()
-        for nxt in itertools.islice(pending, max(1, threads() - len(in_flight))):
-            new = submit(nxt)
-            in_flight[new] = nxt
-            completed.add(new)
-        series = row.pop("_timeseries", None)
-        if series is not None:
-            write_timeseries(out_dir, row["run_key"], series)
-        table.add(row)
-        outcome.done += 1
-        outcome.failed += row["status"] != "ok"
-        if progress is not None:
-            progress.advance(row)
+        return rows
+
+
+def _collect(client: Client, submit: Callable[[list[RunSpec]], Any], todo: list[RunSpec], table: ResultsTable,
+             out_dir: Path, progress: SweepProgress | None, outcome: SweepOutcome) -> None:
+    """Keep one chunk in flight per cluster thread; hand each row to the table as it arrives."""
+    dispatch = _Dispatch(client, submit, todo)
+    dispatch.fill()
+    for future in dispatch.completed:
+        rows = dispatch.rows(future)
+        dispatch.fill()
+        for row in rows:
+            series = row.pop("_timeseries", None)
+            if series is not None:
+                write_timeseries(out_dir, row["run_key"], series)
+            table.add(row)
+            outcome.done += 1
+            outcome.failed += row["status"] != "ok"
+            if progress is not None:
+                progress.advance(row)
 
 
 def run_plan(plan: SweepPlan, table: ResultsTable, out_dir: Path, opts: ClusterOptions,
@@ -168,12 +219,12 @@ def run_plan(plan: SweepPlan, table: ResultsTable, out_dir: Path, opts: ClusterO
         if progress is not None:
             progress.start(len(plan.runs), outcome.skipped, outcome.dashboard, note)
         if todo:
-            shipper = FmuShipper(fmu_bytes, fmu_sha)
+            shipper, serial = FmuShipper(fmu_bytes, fmu_sha), itertools.count()
             client.register_plugin(shipper)
 
-            def submit(run: RunSpec):
-                return client.submit(task, run, fmu_sha, keep_timeseries, key=f"crd-run-{run.key}",
-                                     pure=False)
+            def submit(runs: list[RunSpec]):
+                return client.submit(run_chunk, task, runs, fmu_sha, keep_timeseries, pure=False,
+                                     key=f"crd-runs-{runs[0].key}-{len(runs)}-{next(serial)}")
 
             _collect(client, submit, todo, table, out_dir, progress, outcome)
             if cluster is None:  # an attached scheduler would hand the FMU to every worker that ever joins

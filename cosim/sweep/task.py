@@ -1,16 +1,20 @@
-"""What a Dask worker runs: one sweep run -> one result row (a plain dict).
+"""What a Dask worker runs: sweep runs -> result rows (plain dicts), a chunk of runs per task.
 
 The plant FMU reaches each worker as bytes, once (no shared file system is
 assumed): :class:`FmuShipper` is a Dask worker plugin holding the bytes, whose
 ``setup`` runs on every worker of the cluster, including workers that join or
 restart later, and writes the file with :func:`cached_fmu` into the local
-temporary directory under its sha256. Runs then name the FMU by hash only, so
-no task depends on data held by another worker. :func:`run_one`
+temporary directory under its sha256, then prepares it once for every run of
+the worker (:func:`cosim.world.plant_fmu.share_fmu`: hashed, parsed, extracted
+and its library loaded once; each run instantiates and frees its own
+instance). Runs name the FMU by hash only, so no task depends on data held by
+another worker. :func:`run_chunk` runs several runs in one task (fewer
+scheduler round trips), each exactly as :func:`run_one` would. :func:`run_one`
 never raises for a failed run: a scenario value the loader, the ECU or the FMU
 refuses, an FMI error mid-run, or any other exception becomes a row with
 ``status = "failed"`` and the error text, so the sweep goes on. (A native
 crash that kills the worker is handled by the runner: Dask retries the task
-once on another worker, then it is recorded as failed.)
+once, then it is recorded as failed.)
 """
 
 from __future__ import annotations
@@ -21,7 +25,7 @@ import os
 import tempfile
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, Sequence
 
 from distributed.diagnostics.plugin import WorkerPlugin
 
@@ -29,7 +33,7 @@ from ..errors import PlantError
 from ..loop.master import run_scenario
 from ..results.run_record import RunMetrics, RunRecord
 from ..scenarios.loader import scenario_from_dict
-from ..world.plant_fmu import file_sha256
+from ..world.plant_fmu import file_sha256, share_fmu, unshare_fmu
 from .plan import RunSpec
 
 #: metrics.json fields copied into each row: every RunMetrics field but the strategy (its own column)
@@ -74,7 +78,12 @@ class FmuShipper(WorkerPlugin):
         self.name = f"crd-fmu-{sha256[:16]}"
 
     def setup(self, worker) -> None:
-        cached_fmu(self.sha256, self.data)
+        share_fmu(cached_fmu(self.sha256, self.data))
+
+    def teardown(self, worker) -> None:
+        path = _FMU_PATHS.get(self.sha256)
+        if path is not None:
+            unshare_fmu(path)
 
 
 def base_row(run: RunSpec) -> dict[str, Any]:
@@ -113,3 +122,12 @@ def run_one(run: RunSpec, fmu_sha256: str, keep_timeseries: bool = False) -> dic
     if keep_timeseries:
         row["_timeseries"] = record.rows
     return row
+
+
+#: what a task runs per run: ``(run, fmu_sha256, keep_timeseries) -> row`` (:func:`run_one`; tests swap it)
+RunTask = Callable[[RunSpec, str, bool], dict]
+
+
+def run_chunk(task: RunTask, runs: Sequence[RunSpec], fmu_sha256: str, keep_timeseries: bool = False) -> list[dict]:
+    """Several runs in one Dask task, one after the other: their rows, in order."""
+    return [task(run, fmu_sha256, keep_timeseries) for run in runs]

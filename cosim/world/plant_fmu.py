@@ -106,6 +106,7 @@ class SharedFmu:
         self.unzipdir = extract(str(self.path))
         self.slave = None  # fmpy FMU2Slave/FMU3Slave, made by the first plant
         self.busy = False
+        self.retired = False  # unshared while busy: closed by the plant using it
 
     def release(self, fmu) -> None:
         """Terminate and free one plant's instance; the library stays loaded."""
@@ -145,7 +146,9 @@ def unshare_fmu(path: Path) -> None:
     """Forget (and unload) the shared FMU at ``path``; plants opened later load it per run again."""
     shared = _SHARED.pop(Path(path), None)
     if shared is not None:
-        shared.close()
+        shared.retired = True
+        if not shared.busy:  # else the plant using it closes it when it closes
+            shared.close()
 
 
 class FmuPlant:
@@ -349,6 +352,8 @@ class FmuPlant:
         if shared is not None:
             shared.busy = False
             self._unzipdir = None  # the shared extraction outlives this plant
+            if shared.retired:
+                shared.close()
         if self._unzipdir:
             shutil.rmtree(self._unzipdir, ignore_errors=True)
             self._unzipdir = None

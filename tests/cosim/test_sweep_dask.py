@@ -22,7 +22,7 @@ import pytest
 from cosim.loop.master import run_scenario
 from cosim.scenarios.loader import scenario_from_dict
 from cosim.sweep.plan import make_plan, run_seed
-from cosim.sweep.runner import ClusterOptions, open_client
+from cosim.sweep.runner import ClusterOptions, chunk_size, open_client
 from cosim.sweep.session import run_sweep
 from cosim.sweep.spec import load_sweep
 from cosim.sweep.task import run_one
@@ -177,20 +177,27 @@ def crash_on_run_1(run, sha, keep):
 
 
 @pytest.mark.wallclock
-def test_a_task_whose_worker_dies_is_retried_once_then_failed(tmp_path) -> None:
-    text = f'[sweep]\nname = "crash"\nscenario = "{BASE}"\n[[axis]]\npath = "radar.latency_s"\nvalues = [0.0, 0.1, 0.2]\n'
+@pytest.mark.parametrize("workers, n_runs", [(2, 3), (1, 8)], ids=["alone", "in-a-chunk"])
+def test_a_task_whose_worker_dies_is_retried_once_then_failed(tmp_path, workers, n_runs) -> None:
+    """Run 1 kills its worker. With 2 workers and 3 runs each task is one run; with 1 worker and 8 runs
+    the first task is a chunk of 2 (runs 0 and 1): its runs are retried alone, so run 0 ends ok."""
+    latencies = ", ".join(f"{0.02 * i:.2f}" for i in range(n_runs))
+    text = f'[sweep]\nname = "crash"\nscenario = "{BASE}"\n[[axis]]\npath = "radar.latency_s"\nvalues = [{latencies}]\n'
     spec = load_sweep(_write(tmp_path, text))
     key = make_plan(spec).runs[1].key
+    assert chunk_size(n_runs, workers) == (1 if workers == 2 else 2)
     marker = Path(tempfile.gettempdir()) / f"crd-test-crash-{key}"
     marker.unlink(missing_ok=True)
     try:
-        _, outcome = run_sweep(spec, tmp_path / "out", ClusterOptions(workers=2), task=crash_on_run_1, report=False)
+        _, outcome = run_sweep(spec, tmp_path / "out", ClusterOptions(workers=workers), task=crash_on_run_1,
+                               report=False)
         attempts = marker.read_text().count("attempt")
     finally:
         marker.unlink(missing_ok=True)
     rows = pq.read_table(tmp_path / "out" / "results.parquet").to_pylist()
-    assert [r["status"] for r in rows] == ["ok", "failed", "ok"], [(r["run"], r["run_key"], r["error"]) for r in rows]
-    assert outcome.failed == 1
+    expected = ["ok", "failed"] + ["ok"] * (n_runs - 2)
+    assert [r["status"] for r in rows] == expected, [(r["run"], r["run_key"], r["error"]) for r in rows]
+    assert outcome.failed == 1 and outcome.done == n_runs
     assert "KilledWorker" in rows[1]["error"]
     assert attempts == 2  # the first try and one retry
 
