@@ -34,14 +34,13 @@ import psutil
 from distributed import Client, LocalCluster
 
 from cosim.sweep.plan import make_plan
-from cosim.sweep.runner import LOCALHOST, ClusterOptions, run_plan
+from cosim.sweep.runner import ClusterOptions, local_cluster, run_plan
 from cosim.sweep.session import open_table
 from cosim.sweep.spec import load_sweep
 
 
 def _cluster(workers: int) -> LocalCluster:
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host=LOCALHOST,
-                        scheduler_port=0, dashboard_address=None, silence_logs=40)
+    return local_cluster(workers, dashboard=False)  # the sweep's own local cluster (its Dask settings)
 
 
 def _rss() -> int:

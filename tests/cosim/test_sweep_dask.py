@@ -16,13 +16,14 @@ import time
 from pathlib import Path
 
 import psutil
+from distributed import Client
 import pyarrow.parquet as pq
 import pytest
 
 from cosim.loop.master import run_scenario
 from cosim.scenarios.loader import scenario_from_dict
 from cosim.sweep.plan import make_plan, run_seed
-from cosim.sweep.runner import ClusterOptions, chunk_size, open_client
+from cosim.sweep.runner import ClusterOptions, chunk_size, local_cluster, open_client
 from cosim.sweep.session import run_sweep
 from cosim.sweep.spec import load_sweep
 from cosim.sweep.task import run_one
@@ -229,3 +230,15 @@ def test_report_is_redrawn_from_the_table_alone(small, tmp_path, capsys) -> None
     assert main(["sweep", "report", str(copy), "--axes", "radar.latency_s", "plant.road_friction"]) == 0
     assert (copy / "report.md").read_text().count("![") == 2  # the two metrics over the one pair asked for
     assert (copy / "maps" / "mean_impact_speed_mps__radar.latency_s__plant.road_friction.png").is_file()
+
+
+def _profile_history(dask_worker) -> int:
+    return len(dask_worker.profile_history) + len(dask_worker.profile_keys_history)
+
+
+def test_local_workers_keep_no_profile_history() -> None:
+    """Dask's worker profiler kept a call tree per second (for 1,000 s): the sweep workers' memory grew
+    with every run. The local cluster turns it off; a 2.5 s task leaves no history."""
+    with local_cluster(1, dashboard=False) as cluster, Client(cluster, set_as_default=False) as client:
+        client.submit(time.sleep, 2.5, pure=False).result()
+        assert list(client.run(_profile_history).values()) == [0]
