@@ -22,6 +22,7 @@ import ctypes
 import hashlib
 import logging
 import shutil
+import threading
 from pathlib import Path
 from typing import NamedTuple
 
@@ -105,8 +106,21 @@ class SharedFmu:
         self.sha256, self.md = file_sha256(self.path), _read_md(self.path)
         self.unzipdir = extract(str(self.path))
         self.slave = None  # fmpy FMU2Slave/FMU3Slave, made by the first plant
-        self.busy = False
         self.retired = False  # unshared while busy: closed by the plant using it
+        self._lock = threading.Lock()  # held by the plant using it (a worker may run several threads)
+
+    @property
+    def busy(self) -> bool:
+        return self._lock.locked()
+
+    def claim(self) -> bool:
+        """Take it for one plant; False when another plant has it."""
+        return self._lock.acquire(blocking=False)
+
+    def unclaim(self) -> None:
+        self._lock.release()
+        if self.retired:
+            self.close()
 
     def release(self, fmu) -> None:
         """Terminate and free one plant's instance; the library stays loaded."""
@@ -171,9 +185,7 @@ class FmuPlant:
         self._cfg = cfg
         self._md = md
         self._resolve_roles()
-        self._shared = shared if shared is not None and not shared.busy else None  # busy: load a copy
-        if self._shared is not None:
-            self._shared.busy = True
+        self._shared = shared if shared is not None and shared.claim() else None  # busy: load a copy
         self._unzipdir = self._shared.unzipdir if self._shared is not None else extract(str(self.path))
         self._fmu = None
         try:
@@ -350,10 +362,8 @@ class FmuPlant:
                 log.warning("plant FMU freeInstance failed: %s", exc)
         shared, self._shared = self._shared, None
         if shared is not None:
-            shared.busy = False
             self._unzipdir = None  # the shared extraction outlives this plant
-            if shared.retired:
-                shared.close()
+            shared.unclaim()
         if self._unzipdir:
             shutil.rmtree(self._unzipdir, ignore_errors=True)
             self._unzipdir = None

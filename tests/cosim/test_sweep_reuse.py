@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+from cosim.errors import PlantError
 from cosim.loop.master import run_scenario
 from cosim.scenarios.loader import load_scenario
 from cosim.world.plant_fmu import FmuPlant, share_fmu, unshare_fmu
@@ -53,6 +54,9 @@ def test_runs_on_a_shared_fmu_equal_runs_on_a_fresh_load(fmu_copy) -> None:
     assert reused[0] == fresh[0] and reused[1] == fresh[1] and reused[2] == fresh[0]
     assert fresh[0] != fresh[1]  # the variants differ, so equality above says something
     assert _result(scenarios[1], fmu_copy) == fresh[1] and shared.slave.dll._handle == handle  # same library
+    with pytest.raises(PlantError, match="refused initialisation"):  # brake_dead_time out of the FMU's range
+        _result(_variant(1.0, 0.9), fmu_copy)
+    assert _result(scenarios[0], fmu_copy) == fresh[0] and not shared.busy  # a refused instance leaves no trace
 
 
 def test_a_second_plant_at_once_loads_its_own_copy(fmu_copy) -> None:
