@@ -24,6 +24,11 @@ has a core for every runnable task: in lock-step on a quiet machine that saves
 an OS wake-up per wait; on a busy one the bus only blocks, so it never takes a
 core from the peer it waits for. ``spin_s=0`` always blocks.
 
+Batches: the frames a participant sends inside ``with bus.batch():`` (or
+between ``begin_batch()`` and ``end_batch()``) leave in one socket write at its end (each is still its own frame, stamped at
+its ``send``, received one by one): one system call and one wake-up of the
+peer per lock-step turn instead of one per frame.
+
 Bounded: at most ``max_queue_frames`` (default 10,000, about 3 MB) received
 frames wait for ``recv``; more are dropped and counted (``dropped_frames``), and
 the next ``recv`` that finds the queue empty raises ``can.CanOperationError``
@@ -38,11 +43,12 @@ the frames already received, ``recv``); ``peer_count`` is then 0.
 from __future__ import annotations
 
 import collections
+import contextlib
 import logging
 import select
 import socket
 import time
-from typing import Any, Literal
+from typing import Any, Iterator, Literal
 
 import can
 
@@ -104,6 +110,8 @@ class PairSocketBus(can.BusABC):
         self._poller = select.poll()
         self._spin = AdaptiveSpin(float(spin_s))
         self._peer: socket.socket | None = None
+        self._batch: bytearray | None = None  # records of a batch being sent (see batch())
+        self._batch_timeout: float | None = None
         peer = _connect(path)
         if peer is None:
             if role == "connect":
@@ -157,22 +165,60 @@ class PairSocketBus(can.BusABC):
 
     # -- python-can -----------------------------------------------------------------
     def send(self, msg: can.Message, timeout: float | None = None) -> None:
-        """Send ``msg`` to the peer; raise ``can.CanOperationError`` if there is none."""
+        """Send ``msg`` to the peer; raise ``can.CanOperationError`` if there is none.
+
+        Inside a :meth:`batch` the frame's record is kept and written with the batch's others.
+        """
         if self._gone is not None or self._peer is None or self._is_shutdown:
             self._cannot_send()
         stamp = time.time()
         record = wire.pack_frame(msg, stamp)
+        if self._batch is not None:
+            self._batch += record
+            self._batch_timeout = timeout
+        else:
+            self._send_records(record, timeout)
+        if self._receive_own:
+            self._queue.append(wire.own_message(msg, stamp, self.channel))
+
+    @contextlib.contextmanager
+    def batch(self) -> Iterator[None]:
+        """Frames sent in this block leave in one socket write when it ends: :meth:`begin_batch`,
+        then :meth:`end_batch`."""
+        self.begin_batch()
         try:
-            sent = self._peer.send(record)
+            yield
+        finally:
+            self.end_batch()
+
+    def begin_batch(self) -> None:
+        """Keep the frames sent from now on until :meth:`end_batch` writes them in one go.
+
+        Each stays its own CAN frame, stamped when it was sent, and the peer receives
+        them one by one, in order, as without a batch. What changes is the cost: one
+        system call and one wake-up of the peer instead of one per frame (in lock-step
+        each side sends two to nine frames a turn; a write that wakes the peer cost 10
+        to 30 µs on the development machine). A batch already begun goes on.
+        """
+        if self._batch is None:
+            self._batch, self._batch_timeout = bytearray(), None
+
+    def end_batch(self) -> None:
+        """Write the batch's frames (one write); raise ``can.CanOperationError`` if that fails."""
+        records, self._batch = self._batch, None
+        if records and self._gone is None and not self._is_shutdown:
+            self._send_records(bytes(records), self._batch_timeout)
+
+    def _send_records(self, records: bytes, timeout: float | None) -> None:
+        try:
+            sent = self._peer.send(records)
         except BlockingIOError:
             sent = 0
         except OSError as exc:
             self._lost(f"send failed: {exc}")
             raise can.CanOperationError(self._gone) from exc
-        if sent < wire.RECORD_SIZE:
-            self._write(record, sent, self._send_timeout_s if timeout is None else timeout)
-        if self._receive_own:
-            self._queue.append(wire.own_message(msg, stamp, self.channel))
+        if sent < len(records):
+            self._write(records, sent, self._send_timeout_s if timeout is None else timeout)
 
     def _cannot_send(self) -> None:
         if self._is_shutdown:
@@ -182,6 +228,13 @@ class PairSocketBus(can.BusABC):
             raise can.CanOperationError(self._gone)
         if self._peer is None:
             raise can.CanOperationError(f"no peer on {self.channel} yet: a frame needs a receiver")
+
+    def recv(self, timeout: float | None = None) -> can.Message | None:
+        # Fast path without filters when a frame is queued: skips BusABC.recv's clock reads,
+        # filter check and _recv_internal call (about 1 µs of a lock-step turn's 5 to 9 receives).
+        if self._filters is None and self._queue and not self._is_shutdown:
+            return self._queue.popleft()
+        return super().recv(timeout)
 
     def _recv_internal(self, timeout: float | None) -> tuple[can.Message | None, bool]:
         queue = self._queue
@@ -298,10 +351,10 @@ class PairSocketBus(can.BusABC):
             except (KeyError, ValueError):
                 pass
 
-    def _write(self, record: bytes, sent: int, timeout_s: float) -> None:
-        """Finish sending ``record`` (``sent`` bytes are out), waiting up to ``timeout_s``."""
+    def _write(self, records: bytes, sent: int, timeout_s: float) -> None:
+        """Finish sending ``records`` (``sent`` bytes are out), waiting up to ``timeout_s``."""
         sock = self._peer
-        view = memoryview(record)[sent:]
+        view = memoryview(records)[sent:]
         deadline = time.monotonic() + timeout_s
         while view:
             remaining = deadline - time.monotonic()

@@ -21,7 +21,7 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
-from typing import Protocol, runtime_checkable
+from typing import ContextManager, Protocol, runtime_checkable
 
 import can
 
@@ -45,6 +45,14 @@ class PeerCounting(Protocol):
     peer_count: int
 
 
+@runtime_checkable
+class BatchSending(Protocol):
+    """A bus that can send several frames in one write (``crd_pair``: ``with bus.batch(): ...``)."""
+
+    def batch(self) -> ContextManager[None]:
+        """Frames sent inside the block leave together when it ends (each still its own frame)."""
+
+
 class BusEndpoint:
     """The bus, the spawned ECU (``--ecu process``) and the ECU-lost bookkeeping."""
 
@@ -66,6 +74,7 @@ class BusEndpoint:
         try:
             self.bus = can.Bus(interface=options.interface, channel=channel, receive_own_messages=False)
             self.peers: PeerCounting | None = self.bus if isinstance(self.bus, PeerCounting) else None
+            self._batcher: BatchSending | None = self.bus if isinstance(self.bus, BatchSending) else None
             if options.mode == "process":
                 self._tmpdir = self._tmpdir or Path(tempfile.mkdtemp(prefix="crd-ecu-"))
                 if key is not None and not (options.key_file or config.key_file):  # the run's fresh key, 0600
@@ -121,6 +130,19 @@ class BusEndpoint:
         try:
             self.bus.send(msg)
         except can.CanError as exc:
+            self._bus_error(t_s, exc)
+
+    def send_all(self, msgs: list[can.Message], t_s: float) -> None:
+        """Send ``msgs`` in order; on a bus that batches, in one write (one wake-up of the ECU)."""
+        if self._batcher is None:
+            for msg in msgs:
+                self.send(msg, t_s)
+            return
+        try:
+            with self._batcher.batch():
+                for msg in msgs:
+                    self.send(msg, t_s)  # a frame refused at once is a bus error of its own, as unbatched
+        except can.CanError as exc:  # the batch's write failed
             self._bus_error(t_s, exc)
 
     def drain(self, t_s: float, into: list[can.Message]) -> list[can.Message]:
