@@ -111,16 +111,23 @@ class _Samples:
 
 
 class _Receiver:
-    """``bus.recv`` that tolerates one isolated ``can.CanError`` and raises on two in a row."""
+    """``bus.recv`` that tolerates one isolated ``can.CanError`` and raises on two in a row.
 
-    def __init__(self, bus: can.BusABC) -> None:
+    An error once ``stopping`` is set is the end of the run, not news (the master
+    leaves the bus right after asking the ECU to stop): it is not logged.
+    """
+
+    def __init__(self, bus: can.BusABC, stopping: threading.Event) -> None:
         self.bus = bus
         self.failed = False
+        self.stopping = stopping
 
     def recv(self, timeout: float) -> can.Message | None:
         try:
             msg = self.bus.recv(timeout=timeout)
         except can.CanError as exc:
+            if self.stopping.is_set():
+                return None
             if self.failed:
                 raise
             self.failed = True
@@ -137,7 +144,7 @@ def run_real_time(node: ScheduledNode, stop_event: threading.Event, cycle_s: flo
     cycles = missed = 0
     k = 0
     previous_start = None
-    receiver = _Receiver(node.bus)
+    receiver = _Receiver(node.bus, stop_event)
     t0 = clock()
     while not stop_event.is_set():
         deadline = t0 + k * cycle_s
@@ -200,7 +207,7 @@ def run_sim_time(node: ScheduledNode, stop_event: threading.Event) -> RunReport:
     clock = time.perf_counter
     duration = _Samples()
     cycles = 0
-    receiver = _Receiver(node.bus)
+    receiver = _Receiver(node.bus, stop_event)
     batching = isinstance(node.bus, BatchSending)
     begin, end = (node.bus.begin_batch, node.bus.end_batch) if batching else (_nothing, _nothing)
     while not stop_event.is_set():

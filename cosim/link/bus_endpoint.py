@@ -180,15 +180,27 @@ class BusEndpoint:
         log.warning("t=%.3f s: ECU lost: %s", t_s, detail)
 
     def close(self) -> None:
-        """Stop the spawned ECU (by PID), then leave the bus; idempotent."""
+        """Stop the spawned ECU (by PID), then leave the bus; idempotent.
+
+        In lock-step the bus is left right after SIGTERM: the ECU, blocked waiting for the
+        next ``SimClock``, wakes at the peer's ``BYE`` instead of at its next poll timeout
+        (up to 50 ms), and stops, its stop event already set (a real-time ECU still sends
+        until it stops, so there the bus is left after it exited).
+        """
         try:
             if self.process is not None:
+                self.process.signal_stop()
+                if not self.options.realtime:
+                    self._leave_bus()
                 code = self.process.stop(self.options.stop_timeout_s)
                 self.ecu_report = self.process.output()
                 log.info("crd ecu pid %d exited with %s", self.process.pid, code)
         finally:
-            if self.bus is not None:
-                self.bus.shutdown()
+            self._leave_bus()
             if self._tmpdir is not None:
                 shutil.rmtree(self._tmpdir, ignore_errors=True)
                 self._tmpdir = None
+
+    def _leave_bus(self) -> None:
+        if self.bus is not None:
+            self.bus.shutdown()  # idempotent
