@@ -163,6 +163,16 @@ class PairSocketBus(can.BusABC):
         self._poll(0)
         return 1 if self._peer is not None and self._gone is None else 0
 
+    def wait_for_peer(self, timeout_s: float) -> bool:
+        """Block (in ``poll``, no sleeping) up to ``timeout_s`` until the other participant joins."""
+        deadline = time.monotonic() + timeout_s
+        while self._peer is None and self._gone is None and not self._is_shutdown:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0.0:
+                break
+            self._poll(remaining * 1000.0)
+        return self.peer_count == 1
+
     # -- python-can -----------------------------------------------------------------
     def send(self, msg: can.Message, timeout: float | None = None) -> None:
         """Send ``msg`` to the peer; raise ``can.CanOperationError`` if there is none.

@@ -36,6 +36,8 @@ from .ecu_process import EcuProcess
 log = logging.getLogger(__name__)
 _POLL_S = 0.005
 _DRAIN_QUIET_S = 0.002
+#: how often a join blocked on the bus looks whether the spawned ECU died (s)
+_JOIN_CHECK_S = 0.05
 
 
 @runtime_checkable
@@ -43,6 +45,14 @@ class PeerCounting(Protocol):
     """A bus that knows how many other participants it has."""
 
     peer_count: int
+
+
+@runtime_checkable
+class PeerWaiting(Protocol):
+    """A bus that can block until its peer joins (``crd_pair``)."""
+
+    def wait_for_peer(self, timeout_s: float) -> bool:
+        """Wait up to ``timeout_s`` for the other participant; True once it is there."""
 
 
 @runtime_checkable
@@ -111,7 +121,10 @@ class BusEndpoint:
             if time.monotonic() >= deadline:
                 raise EcuLinkError(f"expected an ECU on {self.options.interface} {self.channel} within "
                                    f"{self.options.join_timeout_s} s, none joined")
-            time.sleep(_POLL_S)
+            if isinstance(self.bus, PeerWaiting):  # woken by the connection itself, not the next poll
+                self.bus.wait_for_peer(min(_JOIN_CHECK_S, max(0.0, deadline - time.monotonic())))
+            else:
+                time.sleep(_POLL_S)
         # drop what came before, up to a quiet moment: a real-time ECU sends each SafetyOverride
         # and its authenticator back to back, and a drain ending between the two would hand the
         # gateway an authenticator without its frame (a false authentication failure)
