@@ -112,6 +112,7 @@ class PairSocketBus(can.BusABC):
         self._peer: socket.socket | None = None
         self._batch: bytearray | None = None  # records of a batch being sent (see batch())
         self._batch_timeout: float | None = None
+        self._batch_depth = 0
         peer = _connect(path)
         if peer is None:
             if role == "connect":
@@ -202,20 +203,24 @@ class PairSocketBus(can.BusABC):
             self.end_batch()
 
     def begin_batch(self) -> None:
-        """Keep the frames sent from now on until :meth:`end_batch` writes them in one go.
+        """Keep the frames sent from now on until the matching :meth:`end_batch` writes them in one go.
 
         Each stays its own CAN frame, stamped when it was sent, and the peer receives
         them one by one, in order, as without a batch. What changes is the cost: one
         system call and one wake-up of the peer instead of one per frame (in lock-step
         each side sends two to nine frames a turn; a write that wakes the peer cost 10
-        to 30 µs on the development machine). A batch already begun goes on.
+        to 30 µs on the development machine). Batches nest: the outermost end writes.
         """
         if self._batch is None:
             self._batch, self._batch_timeout = bytearray(), None
+        self._batch_depth += 1
 
     def end_batch(self) -> None:
-        """Write the batch's frames (one write); raise ``can.CanOperationError`` if that fails."""
-        records, self._batch = self._batch, None
+        """End a batch; the outermost writes its frames (one write), raising ``can.CanOperationError`` on failure."""
+        if self._batch_depth > 1:
+            self._batch_depth -= 1
+            return
+        records, self._batch, self._batch_depth = self._batch, None, 0
         if records and self._gone is None and not self._is_shutdown:
             self._send_records(bytes(records), self._batch_timeout)
 

@@ -54,6 +54,7 @@ class EcuProcess:
         self._err = open(self.workdir / "ecu.stderr", "wb")
         self.proc = subprocess.Popen(self.argv, stdin=subprocess.DEVNULL, stdout=self._out, stderr=self._err)
         self.returncode: int | None = None
+        self._signalled = False
         log.info("started crd ecu, pid %d: %s", self.proc.pid, " ".join(self.argv))
 
     @property
@@ -64,8 +65,9 @@ class EcuProcess:
         return self.proc.poll() is None
 
     def signal_stop(self) -> None:
-        """Ask the child to stop (SIGTERM, and SIGCONT in case it was stopped); :meth:`stop` waits."""
-        if self.returncode is None and self.proc.poll() is None:
+        """Ask the child to stop (SIGTERM, and SIGCONT in case it was stopped), once; :meth:`stop` waits."""
+        if not self._signalled and self.returncode is None and self.proc.poll() is None:
+            self._signalled = True  # twice could hit the default handler the child restores as it ends
             self.proc.send_signal(signal.SIGTERM)
             self.proc.send_signal(signal.SIGCONT)  # a stopped child (SIGSTOP) handles SIGTERM only when continued
 
