@@ -70,10 +70,11 @@ def _turn_main(channel: str) -> int:
 
 
 def measure_turns(turns: int) -> None:
-    """Lock-step turns on crd_pair, batched and frame by frame, alternating in blocks of 100."""
+    """Lock-step turns on crd_pair, batched and frame by frame, alternating in blocks of (up to) 100."""
     times: dict[bool, list[float]] = {True: [], False: []}
     cpu: dict[bool, float] = {True: 0.0, False: 0.0}
     children = _Children()
+    block = max(1, min(100, turns // 2))
     with tempfile.TemporaryDirectory(prefix="crd-bench-") as tmp:
         channel = os.path.join(tmp, "bus.sock")
         with can.Bus(interface="crd_pair", channel=channel) as bus:
@@ -82,7 +83,7 @@ def measure_turns(turns: int) -> None:
                 if child.stdout.readline().strip() != "READY" or not bus.wait_for_peer(READY_TIMEOUT_S):
                     raise RuntimeError("the turn peer did not join")
                 for k in range(turns):
-                    batched = (k // 100) % 2 == 0
+                    batched = (k // block) % 2 == 0
                     out = [_frame(i) for i in range(TURN_OUT)]
                     out.append(can.Message(arbitration_id=TURN_CLOCK_ID, is_extended_id=False, data=[batched]))
                     cpu0, start = _cpu_s(child.pid), time.perf_counter()
