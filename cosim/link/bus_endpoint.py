@@ -21,7 +21,7 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
-from typing import ContextManager, Protocol, runtime_checkable
+from typing import Protocol, runtime_checkable
 
 import can
 
@@ -57,10 +57,13 @@ class PeerWaiting(Protocol):
 
 @runtime_checkable
 class BatchSending(Protocol):
-    """A bus that can send several frames in one write (``crd_pair``: ``with bus.batch(): ...``)."""
+    """A bus that can send several frames in one write (``crd_pair``), each still its own frame."""
 
-    def batch(self) -> ContextManager[None]:
-        """Frames sent inside the block leave together when it ends (each still its own frame)."""
+    def begin_batch(self) -> None:
+        """Keep the frames sent from now on."""
+
+    def end_batch(self) -> None:
+        """Write the kept frames in one go; raise ``can.CanError`` if that fails."""
 
 
 class BusEndpoint:
@@ -151,12 +154,15 @@ class BusEndpoint:
             for msg in msgs:
                 self.send(msg, t_s)
             return
+        self._batcher.begin_batch()
         try:
-            with self._batcher.batch():
-                for msg in msgs:
-                    self.send(msg, t_s)  # a frame refused at once is a bus error of its own, as unbatched
-        except can.CanError as exc:  # the batch's write failed
-            self._bus_error(t_s, exc)
+            for msg in msgs:
+                self.send(msg, t_s)  # a frame refused at once is a bus error of its own, as unbatched
+        finally:
+            try:
+                self._batcher.end_batch()
+            except can.CanError as exc:  # the batch's write failed
+                self._bus_error(t_s, exc)
 
     def drain(self, t_s: float, into: list[can.Message]) -> list[can.Message]:
         """Append every frame already received to ``into``; returns it."""
