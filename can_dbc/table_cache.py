@@ -8,8 +8,8 @@ kilobytes of plain data, so they are kept as JSON and read back in well under
 a millisecond: beside the package, in ``can_dbc/__pycache__/dbc_tables.json``
 (where Python keeps its own caches of the package; not in git), or, where that
 cannot be written (an installed, read-only package), in the user's cache
-directory (``$XDG_CACHE_HOME/crd`` or ``~/.cache/crd``, mode 0700), named by
-the key. Files are written mode 0600.
+directory (``$XDG_CACHE_HOME/crd`` or ``~/.cache/crd``, made mode 0700), named
+by the key. The file is written mode 0600.
 
 The cache is never trusted blindly:
 
@@ -97,7 +97,8 @@ def write(path: Path, key: str, tables: Any) -> bool:
     payload = json.dumps(tables, separators=(",", ":"))
     entry = json.dumps({"key": key, "digest": hashlib.sha256(payload.encode()).hexdigest(), "tables": payload})
     try:
-        path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
+        # __pycache__ as Python makes it (its .pyc files live there too); our own directory private
+        path.parent.mkdir(mode=0o777 if path.parent.name == "__pycache__" else 0o700, parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=path.name, suffix=".tmp", dir=path.parent)  # mode 0600
         try:
             with os.fdopen(fd, "w") as f:
