@@ -1,6 +1,6 @@
 """Why the dance shows in the paper's speed trace and not in ours: each candidate, by experiment.
 
-Run: ``python benchmarks/dance_candidates.py`` (about 2 min on 2 cores). For each
+Run: ``python benchmarks/dance_candidates.py`` (about 1 min on 2 cores). For each
 variant of the paper scenario (the same change for all three strategies) it
 prints, per strategy, the separate decelerations counted from the speed trace
 (:mod:`cosim.results.speed_dance`), the largest speed recovery (m/s, with a
@@ -33,6 +33,8 @@ Candidates (issue 14), one family per block of :func:`variants`:
   (2000), "How long does it take to stop?", Transportation Human Factors 2(3):
   expected, unexpected and surprise brake reactions. (The paper's driver holds
   full throttle throughout, which ``full_throttle`` already does.)
+* a side check that is ECU tuning, not physics: the 2 m standoff halved, with
+  and without the holds (does ``none`` then collide while dancing?).
 """
 
 from __future__ import annotations
@@ -224,6 +226,10 @@ def _driver(base):
         yield f"driver: lifts off and re-applies, reaction {reaction_s} s", base, Gateway, reaction_s
     standstill = variant(base, ecu={"contingency_release_speed_mps": 0.1})
     yield "driver: reaction 1.25 s + hold to standstill", standstill, Gateway, 1.25
+    for name, hold in (("no hold", {}), ("hold to standstill", {"contingency_release_speed_mps": 0.1}),
+                       ("hold ratio 1.2", {"contingency_release_ratio": 1.2})):
+        yield f"side check, not physics: standoff 1.0 m, {name}", variant(base, ecu={"standoff_m": 1.0, **hold}), \
+            Gateway, None
 
 
 def main() -> None:
