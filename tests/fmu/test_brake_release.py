@@ -24,7 +24,7 @@ def pulse(t: float) -> dict[str, float]:
 
 
 def decay(run, after_s: float) -> tuple[float, float]:
-    """(delay until the pressure first falls, pressure ratio one time constant later) after ``after_s``."""
+    """(delay until the pressure first falls after ``after_s``, the index of that first fall)."""
     t, p = run["t"], run["brake_pressure"]
     k0 = int(np.argmax(t >= after_s))
     start = k0 + int(np.argmax(p[k0:] < p[k0]))
