@@ -1,6 +1,6 @@
 """Why the dance shows in the paper's speed trace and not in ours: each candidate, by experiment.
 
-Run: ``python benchmarks/dance_candidates.py`` (about 1 min on 2 cores). For each
+Run: ``python benchmarks/dance_candidates.py`` (1-2 min on 2 cores). For each
 variant of the paper scenario (the same change for all three strategies) it
 prints, per strategy, the separate decelerations counted from the speed trace
 (:mod:`cosim.results.speed_dance`), the largest speed recovery (m/s, with a
