@@ -161,6 +161,12 @@ class Receiver:
         flags = RX_RATE if rx.rate is not None and rx.rate.fault(t_s) else 0
         return flags | RX_SEQUENCE if rx.sync_left else flags
 
+    def health(self, name: str, t_s: float) -> tuple[int, int]:
+        """``(score(name), rx_flags(name, t_s))`` in one call: the ECU asks for both, every cycle."""
+        rx = self._by_name[name]
+        flags = RX_RATE if rx.rate is not None and rx.rate.fault(t_s) else 0
+        return rx.score, flags | RX_SEQUENCE if rx.sync_left else flags
+
     def check(self, msg: can.Message, t_s: float | None = None) -> Frame | None:
         """Check ``msg`` (received at cycle time ``t_s``, for the rate checks); return the :class:`Frame`.
 

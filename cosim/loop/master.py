@@ -85,6 +85,7 @@ if _DRIVER_INPUT.names != ("AccelPedal", "BrakePedal", "SteeringWheelAngle") \
 __all__ = ["PHASES", "ClosedLoop", "ecu_config", "run_scenario"]
 
 Progress = Callable[[float, float], None]
+_new_tuple = tuple.__new__
 
 
 def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
@@ -188,11 +189,9 @@ class ClosedLoop:
         return nxt
 
     def _log_cycle(self, t_s: float, out: _Outgoing, received: list, applied: Actuation) -> None:
-        append = self.record.frames.append
-        for msg in out.frames:
-            append(LoggedFrame(t_s, msg.arbitration_id, bytes(msg.data)))
-        for msg in received:
-            append(LoggedFrame(t_s, msg.arbitration_id, bytes(msg.data)))
+        # LoggedFrame's tuple built directly (no generated __new__ call: about half the cost per frame)
+        self.record.frames.extend([_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data)))
+                                   for frames in (out.frames, received) for msg in frames])
         sample, pedals = out.sample, out.pedals
         self.record.rows.append((t_s, sample.position_m, sample.speed_mps, sample.accel_mps2, applied.throttle,
                                  applied.brake, self.gateway.mode, out.gap_m, pedals.accel_pct, pedals.brake_pct))

@@ -129,6 +129,13 @@ class FmuPlant:
                    for v in out[r][1]]
         self._in_vr = (ctypes.c_uint32 * len(in_vars))(*[v.valueReference for v in in_vars])
         self._in_val = (ctypes.c_double * len(in_vars))()
+        # set_actuation's table: (index, role, scale, offset) of the inputs the commands drive
+        self._actuated = tuple((i, m.role, m.scale, m.offset) for i, m in enumerate(self._in_maps)
+                               if m.role != "road_friction")
+        self._accel_gain, self._brake_gain = cfg.accel_gain_mps2, cfg.brake_gain_mps2
+        for i, m in enumerate(self._in_maps):
+            if m.role == "road_friction":
+                self._in_val[i] = cfg.road_friction * m.scale + m.offset
         self._out_vr = (ctypes.c_uint32 * len(out_vrs))(*out_vrs)
         self._out_val = (ctypes.c_double * len(out_vrs))()
         self._pv_vr = (ctypes.c_uint32 * 2)(*self._out_vr[:2])  # position, speed (always mapped first)
@@ -217,17 +224,15 @@ class FmuPlant:
     # -- the loop -----------------------------------------------------------
     def set_actuation(self, throttle: float, brake: float) -> None:
         """Set the plant's inputs from throttle and brake commands (0..1)."""
-        cfg, val = self._cfg, self._in_val
-        for i, m in enumerate(self._in_maps):
-            if m.role == "throttle":
+        val = self._in_val
+        for i, role, scale, offset in self._actuated:  # road friction is constant: written once, at start-up
+            if role == "throttle":
                 x = throttle
-            elif m.role == "brake":
+            elif role == "brake":
                 x = brake
-            elif m.role == "accel_command":
-                x = throttle * cfg.accel_gain_mps2 - brake * cfg.brake_gain_mps2
-            else:  # road_friction
-                x = cfg.road_friction
-            val[i] = x * m.scale + m.offset
+            else:  # accel_command
+                x = throttle * self._accel_gain - brake * self._brake_gain
+            val[i] = x * scale + offset
         if self._set_in is not None and self._fmu is not None:
             if (status := self._set(*self._set_in)) > _WARNING:
                 self._fail(status, None, "set inputs")
