@@ -7,7 +7,7 @@ enumerations and units everyone else uses from it. :func:`encode` builds protect
 validity score per message. See ``docs/CONTRACTS.md``.
 """
 
-from .codec import Encoder, encode, encode_payload
+from .codec import encode, encode_payload
 from .counter import COUNTER_MODULUS, CounterSequence
 from .crc import crc8_j1850, e2e_p01_crc
 from .database import AUTHENTICATORS, DATABASE, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_time_s, e2e_signal_names, signal_layout
@@ -41,7 +41,7 @@ from .receiver import RX_RATE, RX_SEQUENCE, SYNC_FRAMES, Frame, Receiver
 from .secoc import SecOcSender, SecOcVerifier, generate_key, load_key_file, write_key_file
 
 __all__ = [
-    "AUTHENTICATORS", "AuthError", "Encoder", "FreshnessError", "KeyFileError", "RX_RATE", "RX_SEQUENCE", "SYNC_FRAMES",
+    "AUTHENTICATORS", "AuthError", "FreshnessError", "KeyFileError", "RX_RATE", "RX_SEQUENCE", "SYNC_FRAMES",
     "SecOcSender", "SecOcVerifier", "generate_key", "load_key_file", "write_key_file",
     "BRAKE_DECEL_MAX_MPS2", "ECU_CYCLE_S", "MODE_NAMES", "STRATEGIES", "STRATEGY_CODES",
     "ConfigError", "enumeration", "signal_dbc_per_si", "signal_range", "timeout_s",

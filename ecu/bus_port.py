@@ -19,7 +19,7 @@ from typing import Callable, Mapping
 
 import can
 
-from can_dbc import RX_RATE, RX_SEQUENCE, Encoder, Frame, Receiver, signal_range
+from can_dbc import RX_RATE, RX_SEQUENCE, Frame, Receiver, encode, signal_range
 from can_dbc.units import KMH_PER_MPS, PERCENT
 
 from .core import CoreInputs, CoreOutputs
@@ -128,28 +128,22 @@ _PROXIMITY, _STOPPING_M, _SPEED_MPS = (signal_range("EcuStatus", name)
                                        for name in ("Proximity", "StoppingDistance", "SpeedEstimate"))
 
 
-#: positional encoders (see can_dbc.Encoder): the ECU sends SafetyOverride every cycle
-_OVERRIDE = Encoder("SafetyOverride")
-_STATUS = Encoder("EcuStatus")
-if _OVERRIDE.names != ("Mode", "OverrideActive", "ThrottleLimit", "BrakeDecelRequest") \
-        or _STATUS.names[:4] != ("Strategy", "Proximity", "StoppingDistance", "SpeedEstimate") \
-        or set(_STATUS.names[4:]) != set(FAULT_SIGNALS.values()):
-    raise ImportError(f"the DBC's SafetyOverride/EcuStatus signals are not the ones ecu.bus_port encodes: "
-                      f"{_OVERRIDE.names}, {_STATUS.names}")
-#: the fault bit of each EcuStatus fault signal, in the DBC's signal order
-_STATUS_FAULT_BITS = tuple(next(bit for bit, n in FAULT_SIGNALS.items() if n == name) for name in _STATUS.names[4:])
-
-
 def override_message(outputs: CoreOutputs, counter: int) -> can.Message:
     """``SafetyOverride`` for gated outputs (already inside the DBC ranges)."""
-    return _OVERRIDE(counter, int(outputs.mode), int(outputs.override_active), outputs.throttle_limit_pct,
-                     outputs.brake_decel_request_mps2)
+    return encode("SafetyOverride", {
+        "Mode": int(outputs.mode),
+        "OverrideActive": int(outputs.override_active),
+        "ThrottleLimit": outputs.throttle_limit_pct,
+        "BrakeDecelRequest": outputs.brake_decel_request_mps2,
+    }, counter=counter)
 
 
 def status_message(outputs: CoreOutputs, strategy_code: int, counter: int) -> can.Message:
     """``EcuStatus``: strategy, proximity, stopping distance, speed estimate and fault flags."""
-    flags = outputs.fault_flags
-    return _STATUS(counter, strategy_code, _clamped(outputs.proximity, _PROXIMITY),
-                   _clamped(outputs.stopping_distance_m, _STOPPING_M),
-                   _clamped(outputs.speed_estimate_mps, _SPEED_MPS),
-                   *[(flags >> bit) & 1 for bit in _STATUS_FAULT_BITS])
+    return encode("EcuStatus", {
+        "Strategy": strategy_code,
+        "Proximity": _clamped(outputs.proximity, _PROXIMITY),
+        "StoppingDistance": _clamped(outputs.stopping_distance_m, _STOPPING_M),
+        "SpeedEstimate": _clamped(outputs.speed_estimate_mps, _SPEED_MPS),
+        **fault_signals(outputs.fault_flags),
+    }, counter=counter)
