@@ -179,6 +179,9 @@ class Receiver:
         else:
             rx = self._by_id.get(fid)
             if rx is not None and rx.protected:
+                if rx.held is None:  # the common case, without a call: hold it for its authenticator
+                    rx.held = msg
+                    return None
                 return self._hold(rx, msg)
             if rx is None and (rx := self._by_auth_id.get(fid)) is not None:
                 msg = self._authenticate(rx, msg)
