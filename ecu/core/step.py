@@ -179,7 +179,8 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     flags, (speed, initialised, wheel_mean, since_brake), wheels_ok, driver_ok = _checked_speed(
         state, inputs, params)
     fault = flags & ~REPORT_ONLY_FLAGS
-    estimate, model_decel = _next_decel(state, inputs, speed, params, wheels_ok)
+    estimate, model_decel = _next_decel(state, inputs, speed, params, wheels_ok) if params.adaptive_enabled \
+        else (state.decel, None)  # the other strategies: no estimate (_next_decel's answer, without the call)
     plan = plan_cycle(speed, inputs, params, model_decel)
     decision = _decide(state, inputs, plan, fault, (speed, wheels_ok), params)
     throttle, decel = _commands(decision, plan, params)
