@@ -157,9 +157,7 @@ class Receiver:
 
     def rx_flags(self, name: str, t_s: float) -> int:
         """``RX_RATE`` | ``RX_SEQUENCE`` for message ``name`` at cycle time ``t_s`` (0: no receiver fault)."""
-        rx = self._by_name[name]
-        flags = RX_RATE if rx.rate is not None and rx.rate.fault(t_s) else 0
-        return flags | RX_SEQUENCE if rx.sync_left else flags
+        return self.health(name, t_s)[1]
 
     def health(self, name: str, t_s: float) -> tuple[int, int]:
         """``(score(name), rx_flags(name, t_s))`` in one call: the ECU asks for both, every cycle."""
@@ -197,7 +195,7 @@ class Receiver:
             self.stats[type(exc).__name__] += 1
             rx.bad()
             raise
-        if frame[3]:  # fresh: a good frame, even while resynchronising
+        if frame.fresh:  # a good frame, even while resynchronising
             if rx.score:
                 rx.score -= 1
             self.stats["good"] += 1
@@ -281,4 +279,4 @@ class Receiver:
             frame = self.check(msg, t_s)
         except FrameError:
             return None
-        return frame if frame is not None and frame[3] and frame[4] else None
+        return frame if frame is not None and frame.fresh and frame.synced else None
