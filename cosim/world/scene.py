@@ -25,20 +25,24 @@ decides. ``ObjectLateral`` is the object's centre offset ``y``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Sequence
+from operator import itemgetter
+from typing import NamedTuple, Sequence
 
 from ..scenarios.config import EndConfig, ObjectConfig, PlantConfig, RadarConfig
 from .scene_motion import Lateral, Longitudinal, motions
 
 #: half of a 3.5 m lane: the radar's in-lane corridor for its object selection ([M], class value).
 LANE_HALF_WIDTH_M = 1.75
+_LANE_THEN_GAP = itemgetter(0, 1)  # the radar's choice: in-lane objects first, then the nearest
 _ACCEL_BOUND_MPS2 = 50.0  # no body changes speed faster than this within a cycle (contact look-ahead)
 
 
-@dataclass(frozen=True, slots=True)
-class Truth:
-    """What the radar sees of the chosen object: gap (m), range rate (m/s), centre offset (m)."""
+class Truth(NamedTuple):
+    """What the radar sees of the chosen object: gap (m), range rate (m/s), centre offset (m).
+
+    Immutable; a ``NamedTuple`` rather than a frozen dataclass because one is built every
+    cycle: 0.26 instead of 0.56 µs (timeit).
+    """
 
     gap_m: float
     range_rate_mps: float
@@ -111,7 +115,7 @@ class Scene:
         for obj, rear, _, y, _ in self.states(t_s):
             if rear + obj.cfg.length_m <= bumper_m - self._len:
                 continue  # passed
-            if self._lateral_overlap(obj, y) and rear - bumper_m < best:
+            if abs(y) < self._half_w + obj.cfg.width_m / 2.0 and rear - bumper_m < best:  # _lateral_overlap
                 best, found = rear - bumper_m, obj
         return best, found
 
@@ -125,19 +129,18 @@ class Scene:
         return self.path_gap(t_s, bumper_m)[0]
 
     # -- the radar's object ---------------------------------------------------
-    def _visible(self, gap_m: float, y_m: float, width_m: float) -> bool:
-        nearest_y = max(0.0, abs(y_m) - width_m / 2.0)
-        return 0.0 < gap_m <= self._radar.max_range_m and nearest_y <= gap_m * self._tan_half_fov
-
     def radar_truth(self, t_s: float, bumper_m: float, speed_mps: float) -> Truth | None:
         """The object the radar reports (see the module docstring), or None."""
         seen = []
         for obj, rear, v, y, _ in self.states(t_s):
-            gap = rear - bumper_m
-            if self._visible(gap, y, obj.cfg.width_m):
-                in_lane = abs(y) - obj.cfg.width_m / 2.0 < LANE_HALF_WIDTH_M
+            gap, half_width = rear - bumper_m, obj.cfg.width_m / 2.0
+            # visible: ahead, within range, its nearest point inside the field of view
+            if 0.0 < gap <= self._radar.max_range_m and max(0.0, abs(y) - half_width) <= gap * self._tan_half_fov:
+                in_lane = abs(y) - half_width < LANE_HALF_WIDTH_M
                 seen.append((not in_lane, gap, Truth(gap, v - speed_mps, y)))
-        return min(seen, key=lambda s: (s[0], s[1]))[2] if seen else None
+        if len(seen) == 1:  # the common case: min() would return it
+            return seen[0][2]
+        return min(seen, key=_LANE_THEN_GAP)[2] if seen else None
 
     # -- contact --------------------------------------------------------------
     def may_contact(self, t_s: float, bumper_m: float, speed_mps: float, span_s: float) -> bool:
