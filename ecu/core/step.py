@@ -250,7 +250,8 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     mean_mps = sum(inputs.wheel_speeds_mps) / 4.0
     flags, wheels_ok, driver_ok = _input_checks(state, inputs, params, mean_mps)
     speed, initialised, wheel_mean, since_brake = _next_speed(state, inputs, params, wheels_ok, mean_mps)
-    valid = _in_path(inputs, params)
+    # _in_path written out: a valid object in our path
+    valid = inputs.object_valid and not abs(inputs.object_lateral_m) > params.vehicle_width_m / 2.0 + params.path_margin_m
     if wheels_ok and valid and -inputs.object_range_rate_mps > speed + params.radar_speed_tolerance_mps:
         flags |= _SPEED_RADAR  # ecu.core.plausibility.speed_radar_implausible, written out
         wheels_ok = False
