@@ -72,7 +72,8 @@ def gated(mode: object, throttle_limit_pct: float, decel_request_mps2: float) ->
     """:func:`gate`'s fields as a plain tuple, for the core's step (no record to build each cycle).
 
     The common case, two finite floats inside their ranges and a ``Mode``, is :func:`_checked`
-    written out (saves its two calls a cycle, ~0.4 µs measured); anything else takes the general path.
+    written out, and no record built: 0.49-0.66 instead of 0.87-1.47 µs for the old ``gate`` (timeit,
+    loaded machine); anything else takes the general path.
     """
     if (throttle_limit_pct.__class__ is float and decel_request_mps2.__class__ is float and mode.__class__ is Mode
             and math.isfinite(throttle_limit_pct) and math.isfinite(decel_request_mps2)):
