@@ -96,8 +96,9 @@ class Scene:
         """Each object with its (rear (m), speed (m/s), centre offset (m), lateral speed (m/s)) at ``t_s``.
 
         Computed once per time and kept until another time is asked or a trigger fires: one
-        cycle asks at its time four times (observe, radar_truth, end_reason, may_contact),
-        which cost ~3 µs per cycle in profile calls and motion arithmetic (measured).
+        cycle asks at its time four times (observe, radar_truth, end_reason, may_contact). With
+        the Truth record and the written-out tests below, those four took 3.05 µs a cycle before
+        and 2.30 µs after (paper scenario, one object, min of 7).
         """
         if t_s != self._states_t_s:
             self._states = [(obj, *obj.lon.state(t_s, obj.brake_t_s), *obj.lat.state(t_s, obj.lateral_t_s))
