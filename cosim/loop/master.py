@@ -129,7 +129,8 @@ class ClosedLoop:
         # bound once: next() of each message's E2E counter, called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
             CounterSequence().next for _ in range(3))
-        # the link before the plant: a spawned ECU (--ecu process) starts up while the FMU loads
+        # the link before the plant: a spawned ECU (--ecu process) starts up while the FMU loads. Saves
+        # at most the FMU's load (8-12 ms measured here), within the noise of the ECU's ~0.17 s start-up
         self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S, key)
         try:
             self.plant = open_plant(scenario.plant, fmu_path)
