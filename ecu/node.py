@@ -200,18 +200,11 @@ class EcuNode:
             outputs = self._internal_fault()
         self.outputs = outputs
         override = override_message(outputs, self._override_counter.next())
-        sends = [override]
+        self._send(override)
         if self._signer is not None:
-            sends.append(self._signer.authenticator(override))
+            self._send(self._signer.authenticator(override))
         if self._cycle_index % self.config.status_period_cycles == 0:
-            sends.append(status_message(outputs, self.config.strategy_code, self._status_counter.next()))
-        # sent in order from one loop, not through a _send call each: about two calls a cycle fewer
-        send = self.bus.send
-        for msg in sends:
-            try:
-                send(msg)
-            except can.CanError as exc:
-                self._send_failed(msg, exc)
+            self._send(status_message(outputs, self.config.strategy_code, self._status_counter.next()))
         self._cycle_index += 1
         return outputs
 
@@ -228,6 +221,9 @@ class EcuNode:
             disjoint=False, gate_intervened=False,
         )
 
-    def _send_failed(self, msg: can.Message, exc: can.CanError) -> None:
-        self._errors["tx_errors"] += 1
-        log.warning("send of 0x%03X failed: %s", msg.arbitration_id, exc)
+    def _send(self, msg: can.Message) -> None:
+        try:
+            self.bus.send(msg)
+        except can.CanError as exc:
+            self._errors["tx_errors"] += 1
+            log.warning("send of 0x%03X failed: %s", msg.arbitration_id, exc)

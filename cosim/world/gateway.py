@@ -184,8 +184,10 @@ class Gateway:
         if conflict:
             self.mode = CONFLICT_MODE
 
-    def _update_fallback(self, t_s: float, lost: bool, silent_s: float) -> None:
-        """Enter or leave the fallback (``lost``: no valid override); called only when that changes."""
+    def _update_fallback(self, t_s: float) -> None:
+        silent_s = t_s - self._last_fresh_t_s
+        lost = (silent_s > self._cfg.override_timeout_s + 1e-9 or not self._rx.is_valid("SafetyOverride")
+                or self.conflict)
         if lost and not self.fallback:
             if self.conflict:  # already recorded as second_ecu
                 self.fallback = lost
@@ -203,11 +205,7 @@ class Gateway:
     def actuation(self, pedals: Pedals, t_s: float) -> Actuation:
         """The plant's throttle and brake (0..1) for the cycle starting at ``t_s``."""
         self._update_conflict(t_s)
-        silent_s = t_s - self._last_fresh_t_s
-        lost = (silent_s > self._cfg.override_timeout_s + 1e-9 or not self._rx.is_valid("SafetyOverride")
-                or self.conflict)
-        if lost != self.fallback:  # the call only on a change: one call a cycle fewer
-            self._update_fallback(t_s, lost, silent_s)
+        self._update_fallback(t_s)
         throttle_pct, brake = pedals.accel_pct, pedals.brake_pct / 100.0
         sig = self._signals
         if not self.fallback and sig is not None:
