@@ -92,9 +92,10 @@ def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
 class _Outgoing:
     """What the first half of a cycle leaves for the second.
 
-    A plain slotted class: built once per cycle, and about 3x cheaper to build
-    (0.6 instead of 2.0 µs, measured) than the frozen dataclass it replaces,
-    whose ``__init__`` goes through ``object.__setattr__``; nothing mutates it.
+    A plain slotted class: built once per cycle, and about 3.5x cheaper to build
+    (0.26 instead of 0.96 µs, timeit on the loaded 2-core machine) than the
+    frozen dataclass it replaces, whose ``__init__`` goes through
+    ``object.__setattr__``; nothing mutates it.
     """
 
     __slots__ = ("sample", "pedals", "gap_m", "frames")
@@ -128,35 +129,43 @@ class ClosedLoop:
         # bound once: next() of each message's E2E counter, called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
             CounterSequence().next for _ in range(3))
-        self.plant = open_plant(scenario.plant, fmu_path)
+        # the link before the plant: a spawned ECU (--ecu process) starts up while the FMU loads. Saves
+        # at most the FMU's load (8-12 ms measured here), within the noise of the ECU's ~0.17 s start-up
+        self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S, key)
+        try:
+            self.plant = open_plant(scenario.plant, fmu_path)
+        except BaseException:
+            self.link.close()  # stops a spawned ECU by its PID and leaves the bus
+            raise
         self._check_sample = finite_check(scenario.plant)  # NaN/Inf output: an error naming time and variable
         self.record.fmu_path, self.record.fmu_sha256 = str(fmu_path), self.plant.sha256
         if not self.plant.wheel_speeds_mapped:
             self.record.events.append(RunEvent(0.0, "warning", DERIVED_WHEEL_SPEEDS))
             log.warning("%s: %s", self.strategy, DERIVED_WHEEL_SPEEDS)
         self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
-        try:
-            self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S, key)
-        except BaseException:
-            self.plant.close()
-            raise
         self._timer: PhaseTimer | None = instrument(self) if profile else None
 
     # -- one cycle ------------------------------------------------------------
     def _frames_out(self, cycle: int, sample: PlantSample, pedals: Pedals) -> list:
-        top = _WHEEL_MAX_KMH
-        fl, fr, rl, rr = [min(top, max(0.0, w * KMH_PER_MPS)) for w in sample.wheel_speeds_mps]
+        top, k = _WHEEL_MAX_KMH, KMH_PER_MPS
+        # the four clamps written out, not a list comprehension (1.08 instead of 1.39 µs, timeit)
+        w_fl, w_fr, w_rl, w_rr = sample.wheel_speeds_mps
         out = [
             encode("DriverInput", {"AccelPedal": pedals.accel_pct, "BrakePedal": pedals.brake_pct,
                                    "SteeringWheelAngle": 0.0}, self._next_driver()),
-            encode("WheelSpeeds", {"WheelSpeedFL": fl, "WheelSpeedFR": fr, "WheelSpeedRL": rl,
-                                   "WheelSpeedRR": rr}, self._next_wheels()),
+            encode("WheelSpeeds", {"WheelSpeedFL": min(top, max(0.0, w_fl * k)),
+                                   "WheelSpeedFR": min(top, max(0.0, w_fr * k)),
+                                   "WheelSpeedRL": min(top, max(0.0, w_rl * k)),
+                                   "WheelSpeedRR": min(top, max(0.0, w_rr * k))}, self._next_wheels()),
         ]
         if cycle % self.n_track == 0:
             out.append(encode("ObjectTrack", self.radar.measure().signals(), self._next_track()))
         if self._signer is not None:  # each frame followed by its SecOC authenticator
             sign = self._signer.authenticator
-            out = [f for msg in out for f in (msg, sign(msg))]
+            signed = []
+            for msg in out:  # a loop, not a nested comprehension (its call: 0.26 instead of 0.67 µs, timeit)
+                signed += (msg, sign(msg))
+            out = signed
         return out
 
     def _cycle_out(self, t_s: float, cycle: int) -> _Outgoing:
@@ -188,12 +197,22 @@ class ClosedLoop:
         return nxt
 
     def _log_cycle(self, t_s: float, out: _Outgoing, received: list, applied: Actuation) -> None:
-        # LoggedFrame's tuple built directly, without its generated __new__ (0.11 instead of 0.20 µs a frame)
-        self.record.frames.extend([_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data)))
-                                   for frames in (out.frames, received) for msg in frames])
-        sample, pedals = out.sample, out.pedals
-        self.record.rows.append((t_s, sample.position_m, sample.speed_mps, sample.accel_mps2, applied.throttle,
-                                 applied.brake, self.gateway.mode, out.gap_m, pedals.accel_pct, pedals.brake_pct))
+        # LoggedFrame's tuple built directly, without its generated __new__ (0.11 instead of 0.20 µs a frame);
+        # appended in two plain loops, not a nested comprehension + extend (1.89 instead of 2.08 µs, 7 frames)
+        append = self.record.frames.append
+        for msg in out.frames:
+            append(_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data))))
+        for msg in received:
+            append(_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data))))
+        sample, pedals, gap_m = out.sample, out.pedals, out.gap_m
+        speed_mps = sample.speed_mps
+        self.record.rows.append((t_s, sample.position_m, speed_mps, sample.accel_mps2, applied.throttle,
+                                 applied.brake, self.gateway.mode, gap_m, pedals.accel_pct, pedals.brake_pct))
+        # the metrics' running extremes here, where the row is built (once a cycle, after the ECU's
+        # frames), not in a call of their own that read the row back (0.39 instead of 0.44-0.52 µs, timeit)
+        m = self.record.metrics
+        m.min_gap_m = gap_m if m.min_gap_m is None else min(m.min_gap_m, gap_m)
+        m.max_speed_mps = max(m.max_speed_mps, speed_mps)
 
     def _advance(self, k: int, applied: Actuation, gap_m: float, speed_mps: float) -> tuple[int, bool]:
         """Advance the plant one ECU cycle; returns the new ``k`` and whether it collided."""
@@ -236,7 +255,6 @@ class ClosedLoop:
                 t_s = k * self.h_s
                 out = self._cycle_out(t_s, cycle)
                 nxt = self._cycle_in(t_s, cycle, out, applied)
-                self._track(out.gap_m)
                 if self._ended(t_s, out.sample.speed_mps):
                     break
                 k, collided = self._advance(k, applied, out.gap_m, out.sample.speed_mps)
@@ -265,11 +283,6 @@ class ClosedLoop:
         self.record.error = message
         self.record.events.append(RunEvent(t_s, kind, message))
         log.error("%s: %s", self.strategy, message)
-
-    def _track(self, gap_m: float) -> None:
-        m = self.record.metrics
-        m.min_gap_m = gap_m if m.min_gap_m is None else min(m.min_gap_m, gap_m)
-        m.max_speed_mps = max(m.max_speed_mps, self.record.rows[-1][2])
 
     def _ended(self, t_s: float, speed_mps: float) -> bool:
         """An ``[end]`` condition has been met (recorded as an ``end`` event)."""

@@ -28,18 +28,6 @@ def _timed_out(t_s: float, rx_t_s: float, timeout_s: float) -> bool:
     return not (t_s - rx_t_s <= timeout_s + AGE_TOLERANCE_S)  # NaN counts as timed out
 
 
-def _implausible(inputs: CoreInputs) -> bool:
-    wheels = inputs.wheel_speeds_mps
-    # one sum is finite iff every term is (NaN and inf propagate; our magnitudes cannot overflow)
-    total = (sum(wheels) + inputs.accel_pedal + inputs.brake_pedal + inputs.object_range_m
-             + inputs.object_range_rate_mps + inputs.t_s)
-    if not math.isfinite(total):
-        return True
-    if min(wheels) < 0.0 or inputs.object_range_m < 0.0:
-        return True
-    return not (0.0 <= inputs.accel_pedal <= 1.0 and 0.0 <= inputs.brake_pedal <= 1.0)
-
-
 def fault_flags(inputs: CoreInputs, params: CoreParams) -> int:
     """The fault bit field for this cycle (0 when every input is valid)."""
     t = inputs.t_s
@@ -54,7 +42,13 @@ def fault_flags(inputs: CoreInputs, params: CoreParams) -> int:
     limit = params.e2e_invalid_score
     if max(inputs.wheel_e2e_score, inputs.driver_e2e_score, inputs.object_e2e_score) >= limit:
         flags |= 1 << FaultFlag.E2E_ERROR
-    if _implausible(inputs):
+    # non-finite or impossible values: one sum is finite iff every term is (NaN and inf propagate;
+    # our magnitudes cannot overflow), and then the ranges
+    wheels = inputs.wheel_speeds_mps
+    if (not math.isfinite(sum(wheels) + inputs.accel_pedal + inputs.brake_pedal + inputs.object_range_m
+                          + inputs.object_range_rate_mps + t)
+            or min(wheels) < 0.0 or inputs.object_range_m < 0.0
+            or not (0.0 <= inputs.accel_pedal <= 1.0 and 0.0 <= inputs.brake_pedal <= 1.0)):
         flags |= 1 << FaultFlag.INTERNAL
     return flags
 
