@@ -47,7 +47,7 @@ def _do_paper(args: argparse.Namespace) -> int:
     strategies = list(REQUIRED) + (["adaptive"] if args.with_adaptive else [])
     print(f"crd paper: {path.name}, strategies {', '.join(strategies)} -> {args.out}", file=sys.stderr)
     records = run_strategies(scenario, strategies, args.out, progress=progress_printer,
-                              ecu=ecu_options(args), judge=verdicts)
+                              ecu=ecu_options(args), judge=verdicts, concurrent=True)
     end_progress()
     print(results_table(records))
     for line in timing_lines(records):

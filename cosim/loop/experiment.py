@@ -13,17 +13,20 @@ run, after each, and on every way out, including SIGINT/SIGTERM.
 
 from __future__ import annotations
 
+import functools
 import logging
+import os
 import signal
 from pathlib import Path
 from typing import Callable, Sequence
 
 from ..link.ecu_link import EcuOptions
 from ..errors import PlantError, RunInterrupted
+from .concurrent import run_concurrently
 from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
-from ..results.plots import speed_profiles, timeline
+from ..results.plots import preload_matplotlib, speed_profiles, timeline
 from ..results.report import Verdict, fmt, write_report
 from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
@@ -93,16 +96,19 @@ def check_run(scenario: Scenario, record: RunRecord) -> list[str]:
 def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
                    can_logs: Sequence[str] = (),
                    progress: Callable[[str], Progress] | None = None,
-                   ecu: EcuOptions | None = None, judge: Judge | None = None) -> list[RunRecord]:
+                   ecu: EcuOptions | None = None, judge: Judge | None = None,
+                   concurrent: bool = False) -> list[RunRecord]:
     """Run each strategy; with ``out_dir``, write metrics, logs, time series, config, plots and ``report.md``.
 
     With ``out_dir``: the directory is checked before anything runs, the files are written
     as the run goes, and ``metrics.json`` on every way out (module docstring). A run ended
-    by SIGINT/SIGTERM stops the series: its results are written, then
+    by SIGINT/SIGTERM stops the series (concurrent: every run): its results are written, then
     :class:`~cosim.errors.RunInterrupted` is raised on.
     ``can_logs``: CAN log files besides ``can.blf`` (checked before any run);
     ``ecu`` says where the ECU runs (default: in process; see :mod:`cosim.link.ecu_link`);
-    ``judge`` gives the report's verdicts (default: the scenario's ``[checks]``).
+    ``judge`` gives the report's verdicts (default: the scenario's ``[checks]``);
+    ``concurrent``: the runs side by side in forked processes (:mod:`cosim.loop.concurrent`)
+    when there are several, the ECU runs in process and the machine has more than one core.
     """
     logs, fmu_path = _preflight(scenario, strategies, out_dir, can_logs)
     records: list[RunRecord] = []
@@ -111,14 +117,12 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
         if out_dir is not None:
             out_dir.mkdir(parents=True, exist_ok=True)
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
-        for strategy in strategies:
-            record = _run_one(scenario, fmu_path, strategy, out_dir, logs, progress, ecu)
-            records.append(record)
-            if record.interrupted:
-                break
-            if out_dir is not None:
-                write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
-        status = "interrupted" if records and records[-1].interrupted else \
+        run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
+        if concurrent and _can_run_concurrently(strategies, ecu):
+            _run_concurrently(scenario, strategies, run, records, out_dir)
+        else:
+            _run_in_turn(scenario, strategies, run, records, out_dir)
+        status = "interrupted" if any(r.interrupted for r in records) else \
             "error" if any(r.error for r in records) else "complete"
     except KeyboardInterrupt as exc:
         status, error = "interrupted", str(exc)
@@ -131,8 +135,43 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
             _write_summary(out_dir, scenario, records, judge or (lambda recs: check_verdicts(scenario, recs)),
                            status, error)
     if status == "interrupted":
-        raise _interrupted(records[-1], out_dir)
+        raise _interrupted(next(r for r in records if r.interrupted), out_dir)
     return records
+
+
+def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
+                 records: list[RunRecord], out_dir: Path | None) -> None:
+    """One run after the other; stops after a run ended by a signal."""
+    for strategy in strategies:
+        record = run(strategy)
+        records.append(record)
+        if record.interrupted:
+            break
+        if out_dir is not None:
+            write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), "running")
+
+
+def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> bool:
+    """Several runs, more than one core, and each run's ECU in its own process's memory."""
+    in_process = ecu is None or (ecu.mode == "inprocess" and not ecu.realtime)
+    return len(strategies) > 1 and (os.cpu_count() or 1) > 1 and in_process
+
+
+def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
+                      records: list[RunRecord], out_dir: Path | None) -> None:
+    """The runs in forked workers (:func:`cosim.loop.concurrent.run_concurrently`), ``metrics.json`` after each."""
+
+    def on_record(done: list[RunRecord]) -> None:
+        if out_dir is not None:
+            write_metrics(out_dir / "metrics.json", done, provenance(scenario, done), "running")
+
+    def draw(record: RunRecord) -> None:
+        if out_dir is not None:
+            timeline(out_dir / record.strategy / "timeline.png", record)
+
+    run_concurrently(strategies, lambda strategy, plot: run(strategy, plot=plot), records, draw,
+                     preload_matplotlib if out_dir is not None else (lambda: None), on_record,
+                     keep_frames=out_dir is None)
 
 
 def _preflight(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
@@ -155,8 +194,8 @@ def _interrupted(record: RunRecord, out_dir: Path | None) -> RunInterrupted:
 
 
 def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | None, logs: Sequence[str],
-             progress: Callable[[str], Progress] | None, ecu: EcuOptions | None) -> RunRecord:
-    """One strategy's run, its files streamed under ``out_dir/<strategy>/`` as it goes."""
+             progress: Callable[[str], Progress] | None, ecu: EcuOptions | None, plot: bool = True) -> RunRecord:
+    """One strategy's run, its files streamed under ``out_dir/<strategy>/`` as it goes (``plot``: and its timeline)."""
     show = progress(strategy) if progress else None
     stream = RunStream(out_dir / strategy, logs, scenario.scenario.start_datetime) if out_dir is not None else None
     loop: ClosedLoop | None = None
@@ -177,7 +216,8 @@ def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | 
         show(record.metrics.sim_time_s, record.metrics.sim_time_s)  # final line
     if out_dir is not None:
         write_events(out_dir / strategy / "events.json", record)
-        timeline(out_dir / strategy / "timeline.png", record)
+        if plot:
+            timeline(out_dir / strategy / "timeline.png", record)
     return record
 
 
