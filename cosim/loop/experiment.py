@@ -169,9 +169,9 @@ def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callab
         if out_dir is not None:
             timeline(out_dir / record.strategy / "timeline.png", record)
 
-    run_concurrently(strategies, lambda strategy, plot: run(strategy, plot=plot), records, draw,
+    run_concurrently(strategies, lambda strategy: run(strategy, plot=False), records, draw,
                      preload_matplotlib if out_dir is not None else (lambda: None), on_record,
-                     keep_frames=out_dir is None)
+                     jobs=os.cpu_count() or 1, keep_frames=out_dir is None)
 
 
 def _preflight(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
