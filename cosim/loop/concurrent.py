@@ -140,6 +140,14 @@ class Workers:
         self._running.clear()
 
 
+def cores() -> int:
+    """The cores this process may run on (its CPU affinity where the OS tells it, else all of them)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
 def _run(job: Job, strategy: str, keep_frames: bool) -> RunRecord:
     record = job(strategy)
     if not keep_frames:

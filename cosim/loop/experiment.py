@@ -15,14 +15,13 @@ from __future__ import annotations
 
 import functools
 import logging
-import os
 import signal
 from pathlib import Path
 from typing import Callable, Sequence
 
 from ..link.ecu_link import EcuOptions
 from ..errors import PlantError, RunInterrupted
-from .concurrent import run_concurrently
+from .concurrent import cores, run_concurrently
 from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
@@ -154,7 +153,7 @@ def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..
 def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> bool:
     """Several runs, more than one core, and each run's ECU in its own process's memory."""
     in_process = ecu is None or (ecu.mode == "inprocess" and not ecu.realtime)
-    return len(strategies) > 1 and (os.cpu_count() or 1) > 1 and in_process
+    return len(strategies) > 1 and cores() > 1 and in_process
 
 
 def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
@@ -171,7 +170,7 @@ def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callab
 
     run_concurrently(strategies, lambda strategy: run(strategy, plot=False), records, draw,
                      preload_matplotlib if out_dir is not None else (lambda: None), on_record,
-                     jobs=os.cpu_count() or 1, keep_frames=out_dir is None)
+                     jobs=cores(), keep_frames=out_dir is None)
 
 
 def _preflight(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
