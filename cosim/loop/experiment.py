@@ -21,7 +21,7 @@ from typing import Callable, Sequence
 
 from ..link.ecu_link import EcuOptions
 from ..errors import PlantError, RunInterrupted
-from .concurrent import cores, run_concurrently
+from .concurrent import Plots, cores, run_concurrently
 from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
@@ -111,14 +111,14 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     """
     logs, fmu_path = _preflight(scenario, strategies, out_dir, can_logs)
     records: list[RunRecord] = []
-    status, error = "running", None
+    status, error, profiles_drawn = "running", None, False
     try:
         if out_dir is not None:
             out_dir.mkdir(parents=True, exist_ok=True)
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
         run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
         if concurrent and _can_run_concurrently(strategies, ecu):
-            _run_concurrently(scenario, strategies, run, records, out_dir)
+            profiles_drawn = _run_concurrently(scenario, strategies, run, records, out_dir)
         else:
             _run_in_turn(scenario, strategies, run, records, out_dir)
         status = "interrupted" if any(r.interrupted for r in records) else \
@@ -132,7 +132,7 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     finally:
         if out_dir is not None:
             _write_summary(out_dir, scenario, records, judge or (lambda recs: check_verdicts(scenario, recs)),
-                           status, error)
+                           status, error, profiles_drawn)
     if status == "interrupted":
         raise _interrupted(next(r for r in records if r.interrupted), out_dir)
     return records
@@ -157,20 +157,27 @@ def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> 
 
 
 def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
-                      records: list[RunRecord], out_dir: Path | None) -> None:
-    """The runs in forked workers (:func:`cosim.loop.concurrent.run_concurrently`), ``metrics.json`` after each."""
+                      records: list[RunRecord], out_dir: Path | None) -> bool:
+    """The runs in forked workers (:func:`cosim.loop.concurrent.run_concurrently`), ``metrics.json`` after
+    each; whether ``speed_profiles.png`` has been drawn (by the plot worker, beside the last timeline)."""
 
     def on_record(done: list[RunRecord]) -> None:
         if out_dir is not None:
             write_metrics(out_dir / "metrics.json", done, provenance(scenario, done), "running")
 
-    def draw(record: RunRecord) -> None:
-        if out_dir is not None:
-            timeline(out_dir / record.strategy / "timeline.png", record)
+    plots = Plots(preload_matplotlib, lambda r: timeline(out_dir / r.strategy / "timeline.png", r),
+                  lambda recs: _speed_profiles(out_dir, scenario, recs)) if out_dir is not None else \
+        Plots(lambda: None, lambda r: None)
+    return run_concurrently(strategies, lambda strategy: run(strategy, plot=False), records, plots, on_record,
+                            jobs=cores(), keep_frames=out_dir is None)
 
-    run_concurrently(strategies, lambda strategy: run(strategy, plot=False), records, draw,
-                     preload_matplotlib if out_dir is not None else (lambda: None), on_record,
-                     jobs=cores(), keep_frames=out_dir is None)
+
+def _speed_profiles(out_dir: Path, scenario: Scenario, records: Sequence[RunRecord]) -> None:
+    """``speed_profiles.png``: every run's speed against position (claim 4's split marked for the paper's runs)."""
+    obj = scenario.object
+    paper = set(paper_claims.REQUIRED) <= {r.strategy for r in records}
+    speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None,
+                   split_m=paper_claims.SPLIT_POSITION_M if paper else None)
 
 
 def _preflight(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
@@ -221,28 +228,27 @@ def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | 
 
 
 def _write_summary(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, status: str,
-                   error: str | None) -> None:
+                   error: str | None, profiles_drawn: bool = False) -> None:
     """``metrics.json`` first (the one file every way out must leave), then the config, plots and report."""
     prov = provenance(scenario, records)
     write_metrics(out_dir / "metrics.json", records, prov, status, error)
     if not records:
         return
     try:
-        _write_report(out_dir, scenario, records, judge, prov)
+        _write_report(out_dir, scenario, records, judge, prov, profiles_drawn)
     except Exception as exc:  # noqa: BLE001 - on the way out of a failed run, never mask its error
         if status == "complete":
             raise
         log.warning("could not write the summary files after the run stopped (%s): %s", status, exc)
 
 
-def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, prov: dict) -> None:
-    """``config.resolved.toml``, ``speed_profiles.png`` and ``report.md`` (with the judge's verdicts)."""
+def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, prov: dict,
+                  profiles_drawn: bool = False) -> None:
+    """``config.resolved.toml``, ``speed_profiles.png`` (unless drawn already) and ``report.md``."""
     resolved = out_dir / "config.resolved.toml"
     write_resolved_config(resolved, scenario, ecu_config(scenario, records[0].strategy), prov)
-    obj = scenario.object
-    paper = set(paper_claims.REQUIRED) <= {r.strategy for r in records}
-    speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None,
-                   split_m=paper_claims.SPLIT_POSITION_M if paper else None)
+    if not profiles_drawn:
+        _speed_profiles(out_dir, scenario, records)
     plots = [("speed against position", "speed_profiles.png")]
     plots += [(f"{r.strategy}: timeline", f"{r.strategy}/timeline.png") for r in records]
     try:

@@ -24,7 +24,7 @@ import pytest
 
 from can_dbc import generate_key, write_key_file
 from cosim.link.ecu_link import EcuOptions
-from cosim.loop.concurrent import cores, run_concurrently
+from cosim.loop.concurrent import Plots, cores, run_concurrently
 from cosim.loop.experiment import run_strategies
 from cosim.results.run_record import LoggedFrame, RunMetrics, RunRecord
 from cosim.scenarios.loader import load_scenario
@@ -72,9 +72,13 @@ def _run(strategies: list[str], tmp_path: Path, records: list[RunRecord], keep_f
     def draw(record: RunRecord) -> None:  # in the parent, or in the plot worker for the last ones
         (tmp_path / f"{record.strategy}.drawn").write_text("")
 
+    def finale(every: list[RunRecord]) -> None:  # in the plot worker, beside the last timeline
+        (tmp_path / "finale.drawn").write_text(" ".join(r.strategy for r in every))
+
     seen: list[list[str]] = []
-    run_concurrently(strategies, _job, records, draw, lambda: None,
-                     lambda done: seen.append([r.strategy for r in done]), jobs=2, keep_frames=keep_frames)
+    drawn = run_concurrently(strategies, _job, records, Plots(lambda: None, draw, finale),
+                             lambda done: seen.append([r.strategy for r in done]), jobs=2, keep_frames=keep_frames)
+    assert drawn == (tmp_path / "finale.drawn").exists()  # else the caller draws it
     return seen
 
 
@@ -83,7 +87,9 @@ def test_records_come_in_order_and_every_timeline_is_drawn(tmp_path):
     seen = _run(["a", "b", "c", "d"], tmp_path, records)
     assert [r.strategy for r in records] == ["a", "b", "c", "d"] and seen[-1] == ["a", "b", "c", "d"]
     assert all(seen[i] == sorted(seen[i], key="abcd".index) for i in range(len(seen)))  # metrics.json in order
-    assert sorted(p.stem for p in tmp_path.glob("*.drawn")) == ["a", "b", "c", "d"]
+    assert sorted(p.stem for p in tmp_path.glob("*.drawn") if p.stem != "finale") == ["a", "b", "c", "d"]
+    if (tmp_path / "finale.drawn").exists():  # drawn by the plot worker when a timeline was left to draw
+        assert (tmp_path / "finale.drawn").read_text() == "a b c d"
     assert records[0].frames == [] and records[0].rows == [(0.0,)]
     kept: list[RunRecord] = []
     _run(["a"], tmp_path, kept, keep_frames=True)
