@@ -93,10 +93,9 @@ def check_run(scenario: Scenario, record: RunRecord) -> list[str]:
 
 
 def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
-                   can_logs: Sequence[str] = (),
-                   progress: Callable[[str], Progress] | None = None,
-                   ecu: EcuOptions | None = None, judge: Judge | None = None,
-                   concurrent: bool = False) -> list[RunRecord]:
+                   can_logs: Sequence[str] = (), progress: Callable[[str], Progress] | None = None,
+                   ecu: EcuOptions | None = None, judge: Judge | None = None, concurrent: bool = False
+                   ) -> list[RunRecord]:
     """Run each strategy; with ``out_dir``, write metrics, logs, time series, config, plots and ``report.md``.
 
     With ``out_dir``: the directory is checked before anything runs, the files are written
@@ -106,8 +105,8 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     ``can_logs``: CAN log files besides ``can.blf`` (checked before any run);
     ``ecu`` says where the ECU runs (default: in process; see :mod:`cosim.link.ecu_link`);
     ``judge`` gives the report's verdicts (default: the scenario's ``[checks]``);
-    ``concurrent``: the runs side by side in forked processes (:mod:`cosim.loop.concurrent`)
-    when there are several, the ECU runs in process and the machine has more than one core.
+    ``concurrent``: side by side in forked processes (:mod:`cosim.loop.concurrent`) when
+    there are several runs, each ECU in process and more than one core.
     """
     logs, fmu_path = _preflight(scenario, strategies, out_dir, can_logs)
     records: list[RunRecord] = []
@@ -117,10 +116,8 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
             out_dir.mkdir(parents=True, exist_ok=True)
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
         run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
-        if concurrent and _can_run_concurrently(strategies, ecu):
-            profiles_drawn = _run_concurrently(scenario, strategies, run, records, out_dir)
-        else:
-            _run_in_turn(scenario, strategies, run, records, out_dir)
+        concurrent = concurrent and _can_run_concurrently(strategies, ecu)
+        profiles_drawn = (_run_concurrently if concurrent else _run_in_turn)(scenario, strategies, run, records, out_dir)
         status = "interrupted" if any(r.interrupted for r in records) else \
             "error" if any(r.error for r in records) else "complete"
     except KeyboardInterrupt as exc:
@@ -139,8 +136,8 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
 
 
 def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
-                 records: list[RunRecord], out_dir: Path | None) -> None:
-    """One run after the other; stops after a run ended by a signal."""
+                 records: list[RunRecord], out_dir: Path | None) -> bool:
+    """One run after the other; stops after a run ended by a signal. False: no speed profiles drawn yet."""
     for strategy in strategies:
         record = run(strategy)
         records.append(record)
@@ -148,6 +145,7 @@ def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..
             break
         if out_dir is not None:
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), "running")
+    return False
 
 
 def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> bool:
