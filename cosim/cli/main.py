@@ -16,7 +16,13 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import os
 import sys
+
+# numpy's OpenBLAS starts a thread per core on import (50 ms of CPU, and a thread in every
+# process crd forks); crd's arrays are small, so one thread does. Set before numpy is imported;
+# a value in the environment wins.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 #: subcommand name -> module that implements it (imported on demand).
 SUBCOMMANDS: dict[str, str] = {
