@@ -101,12 +101,18 @@ def _paper_command(out: str) -> list[str]:
     return [sys.executable, "-m", "cosim.cli.main", "paper", "--out", out]
 
 
-def crd_paper() -> tuple[float, float, int]:
+def _env(source: Path | None) -> dict | None:
+    """The environment that makes the child import crd from ``source`` (None: as installed)."""
+    return None if source is None else dict(os.environ, PYTHONPATH=str(source))
+
+
+def crd_paper(source: Path | None = None) -> tuple[float, float, int]:
     """(wall s, CPU s of it and its workers, exit code) of ``crd paper`` in a child process."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     with tempfile.TemporaryDirectory() as out:
         t0 = time.perf_counter()
-        proc = subprocess.run(_paper_command(out), capture_output=True, text=True)
+        proc = subprocess.run(_paper_command(out), capture_output=True, text=True, env=_env(source),
+                              cwd=out if source is not None else None)
         wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
@@ -139,11 +145,12 @@ def _memory_kb(pid: int) -> tuple[int, int, int]:
     return tuple(int(fields.get(k, "0 kB").split()[0]) for k in ("Rss", "Pss", "VmHWM"))  # type: ignore[return-value]
 
 
-def paper_tree_memory(period_s: float = 0.005) -> tuple[float, float, float]:
+def paper_tree_memory(source: Path | None = None, period_s: float = 0.005) -> tuple[float, float, float]:
     """Peaks (MB) over ``crd paper``'s process tree, sampled: summed PSS, summed RSS, largest VmHWM."""
     peaks = [0, 0, 0]
     with tempfile.TemporaryDirectory() as out:
-        proc = subprocess.Popen(_paper_command(out), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        proc = subprocess.Popen(_paper_command(out), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                env=_env(source), cwd=out if source is not None else None)
 
         def sample() -> None:
             while proc.poll() is None:
@@ -174,7 +181,7 @@ def _add(figures: dict, key: tuple, value: float) -> None:
     figures.setdefault(key, []).append(value)
 
 
-def one_round(sc, fmu: Path, figures: dict, paper: bool, loops: bool = True) -> None:
+def one_round(sc, fmu: Path, figures: dict, paper: bool, loops: bool = True, baseline: Path | None = None) -> None:
     """One alternating round: every strategy on every bus, then the plant alone over the same time."""
     for strategy in STRATEGIES if loops else ():
         for bus in BUSES:
@@ -186,21 +193,24 @@ def one_round(sc, fmu: Path, figures: dict, paper: bool, loops: bool = True) -> 
                 _add(figures, (strategy, "ratio"), wall / alone_wall)
                 _add(figures, (strategy, "ratio", "cpu"), cpu / alone_cpu)
                 _add(figures, (strategy, "alone"), sim / alone_wall)
-    if paper:
-        wall, cpu, code = crd_paper()
+    children = [("paper", None)] + ([("baseline", baseline)] if baseline is not None else [])
+    for name, source in children if paper else []:
+        wall, cpu, code = crd_paper(source)
         if code != 0:
-            raise SystemExit(f"crd paper exited with {code}")
+            raise SystemExit(f"crd paper ({name}) exited with {code}")
         for key, value in (("wall", wall), ("cpu", cpu)):
-            _add(figures, ("paper", key), value)
+            _add(figures, (name, key), value)
 
 
-def report(figures: dict, rounds: int) -> None:
+def report(figures: dict, rounds: int, baseline: Path | None = None) -> None:
     print(f"medians over {rounds} alternating rounds (min..max); load average now "
           f"{' '.join(f'{x:.1f}' for x in os.getloadavg())}")
     if ("none", "crd_inproc") in figures:
         report_loops(figures)
     if ("paper", "wall") in figures:
         report_paper(figures)
+    if ("baseline", "wall") in figures:
+        report_paper(figures, "baseline", baseline)
 
 
 def report_loops(figures: dict) -> None:
@@ -216,11 +226,12 @@ def report_loops(figures: dict) -> None:
           f"plant alone {_spread(figures[(slowest, 'ratio')], '{:.2f}')} (goal <= 1.0)")
 
 
-def report_paper(figures: dict) -> None:
-    print(f"crd paper: wall {_spread(figures[('paper', 'wall')], '{:.2f}')} s (goal <= 1.3 s), "
-          f"CPU {_spread(figures[('paper', 'cpu')], '{:.2f}')} s (all its processes)")
-    pss, rss, hwm = paper_tree_memory()
-    print(f"crd paper memory (one run sampled every 5 ms): peak of the process tree's summed PSS {pss:.0f} MB "
+def report_paper(figures: dict, name: str = "paper", source: Path | None = None) -> None:
+    label = "crd paper" if name == "paper" else f"crd paper from the baseline {source}"
+    print(f"{label}: wall {_spread(figures[(name, 'wall')], '{:.2f}')} s (goal <= 1.3 s), "
+          f"CPU {_spread(figures[(name, 'cpu')], '{:.2f}')} s (all its processes)")
+    pss, rss, hwm = paper_tree_memory(source)
+    print(f"{label} memory (one run sampled every 5 ms): peak of the process tree's summed PSS {pss:.0f} MB "
           f"(goal <= 150 MB); largest single process's peak RSS {hwm:.0f} MB; peak summed RSS {rss:.0f} MB "
           f"(counts shared pages once per process)")
 
@@ -240,14 +251,18 @@ def main() -> None:
     parser.add_argument("--phases", action="store_true", help="also split a cycle's cost into phases")
     parser.add_argument("--skip-paper", action="store_true", help="leave out the crd paper child process")
     parser.add_argument("--paper-only", action="store_true", help="only the crd paper figures")
+    parser.add_argument("--paper-baseline", type=Path, metavar="DIR",
+                        help="also time crd paper from this source tree (e.g. `git archive main`), alternating")
     args = parser.parse_args()
     sc = load_scenario(args.scenario)
     fmu = resolve_fmu(sc)
     run_scenario(sc, fmu, "none")  # warm up: imports, the FMU's first load
+    if args.paper_baseline is not None:
+        crd_paper(args.paper_baseline)  # warm up: the baseline builds its FMU on first use
     figures: dict = {}
     for _ in range(max(1, args.repeat)):
-        one_round(sc, fmu, figures, not args.skip_paper, loops=not args.paper_only)
-    report(figures, max(1, args.repeat))
+        one_round(sc, fmu, figures, not args.skip_paper, loops=not args.paper_only, baseline=args.paper_baseline)
+    report(figures, max(1, args.repeat), args.paper_baseline)
     if args.phases:
         phases(sc, fmu)
 
