@@ -16,6 +16,7 @@ from __future__ import annotations
 import functools
 import logging
 import signal
+import threading
 from pathlib import Path
 from typing import Callable, Sequence
 
@@ -149,9 +150,10 @@ def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..
 
 
 def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> bool:
-    """Several runs, more than one core, and each run's ECU in its own process's memory."""
+    """Several runs, more than one core, each run's ECU in its own process's memory, and no other
+    thread here (a fork copies only the calling thread: a lock another one holds would stay held)."""
     in_process = ecu is None or (ecu.mode == "inprocess" and not ecu.realtime)
-    return len(strategies) > 1 and cores() > 1 and in_process
+    return len(strategies) > 1 and cores() > 1 and in_process and threading.active_count() == 1
 
 
 def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
