@@ -17,6 +17,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -158,3 +159,18 @@ def test_a_signal_ends_every_running_run_with_its_results(plant_fmu3, tmp_path, 
         events = json.loads((out / run["strategy"] / "events.json").read_text())["events"]
         assert events[-1]["kind"] == "interrupted"
     assert all(not (out / s / "timeseries.csv").exists() for s in STRATEGIES if s not in started)
+
+
+@pytest.mark.slow
+def test_a_process_with_other_threads_runs_one_after_the_other(plant_fmu3, tmp_path):
+    """A fork copies only the calling thread, so a lock another thread holds would stay held in the worker."""
+    release = threading.Event()
+    other = threading.Thread(target=release.wait)
+    other.start()
+    try:
+        records = run_strategies(load_scenario(SHORT), ["none", "tightening"], tmp_path, concurrent=True)
+    finally:
+        release.set()
+        other.join()
+    assert [r.strategy for r in records] == ["none", "tightening"]
+    assert all(r.frames for r in records)  # kept: run here (a worker sends its record without them)
