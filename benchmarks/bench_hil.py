@@ -7,8 +7,10 @@
    by PID. Speed-up over real time = simulated s / wall s of the three runs,
    with the ECU's start-up and join (``total``) and without (``cycles``);
    medians over the rounds, and the busy median as a share of the quiet one
-   (goals: quiet >= 60x, busy >= 40 % of quiet). A machine shared with other
-   work is never quiet: the load average and runnable tasks are printed.
+   (goals: quiet >= 60x, busy >= 40 % of quiet). Each round also runs the three
+   strategies in process (crd_inproc): the wall time per cycle of both says how
+   much of a cycle the second process and the round trip cost. A machine shared
+   with other work is never quiet: the load average and runnable tasks are printed.
 2. Round trip through the transport and the ECU process, on ``crd_pair`` and
    on ``crd_unix``: the master sends a cycle's input frames and ``SimClock``
    and waits for the ``SafetyOverride`` of that cycle (median, p99 over
@@ -44,7 +46,7 @@ from pathlib import Path
 
 import can
 
-from can_dbc import CounterSequence, encode
+from can_dbc import ECU_CYCLE_S, CounterSequence, encode
 from cosim.cli.paper import PAPER_SCENARIO
 from cosim.link.ecu_link import EcuOptions
 from cosim.link.ecu_process import EcuProcess
@@ -72,11 +74,13 @@ def _stop(procs: list[subprocess.Popen]) -> None:
         proc.wait()
 
 
-def _paper_process_runs(sc, fmu) -> tuple[float, float, float]:
+def _paper_process_runs(sc, fmu) -> tuple[float, ...]:
     """x real time of the three strategies out of process: with start-up and join, cycles alone, and
     over the CPU time of the master and the ECU processes (what a machine that never made either
-    wait for a core or a wake-up would give)."""
+    wait for a core or a wake-up would give); then the same three runs in process (the work of a
+    cycle without the second process and the transport), and the wall time per cycle of both (µs)."""
     sim_s = wall_s = join_s = 0.0
+    cycles = 0
     cpu0 = time.process_time()
     children0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     for strategy in STRATEGIES:
@@ -86,10 +90,13 @@ def _paper_process_runs(sc, fmu) -> tuple[float, float, float]:
         sim_s += rec.metrics.sim_time_s
         wall_s += rec.metrics.wall_time_s
         join_s += rec.ecu_join_wait_s
+        cycles += round(rec.metrics.sim_time_s / ECU_CYCLE_S)
     children = resource.getrusage(resource.RUSAGE_CHILDREN)  # the ECU processes, reaped by now
     cpu_s = (time.process_time() - cpu0 + children.ru_utime - children0.ru_utime
              + children.ru_stime - children0.ru_stime)
-    return sim_s / wall_s, sim_s / (wall_s - join_s), sim_s / cpu_s
+    inproc_wall_s = sum(run_scenario(sc, fmu, strategy).metrics.wall_time_s for strategy in STRATEGIES)
+    return (sim_s / wall_s, sim_s / (wall_s - join_s), sim_s / cpu_s, sim_s / inproc_wall_s,
+            1e6 * (wall_s - join_s) / cycles, 1e6 * inproc_wall_s / cycles)
 
 
 def lockstep_quiet_and_busy(rounds: int) -> None:
@@ -107,13 +114,18 @@ def lockstep_quiet_and_busy(rounds: int) -> None:
                 results[label].append(_paper_process_runs(sc, fmu))
             finally:
                 _stop(neighbours)
-            total, cycles, cpu = results[label][-1]
+            total, cycles, cpu, inproc, cycle_us, inproc_us = results[label][-1]
             print(f"   round {k + 1} {label:<5}: total {total:5.1f}x  cycles {cycles:5.1f}x  over CPU time "
-                  f"{cpu:5.1f}x   ({machine})")
-    med = {label: tuple(statistics.median(r[i] for r in runs) for i in range(3)) for label, runs in results.items()}
-    for i, what in enumerate(("total (with ECU start-up and join)", "cycles alone", "over CPU time")):
+                  f"{cpu:5.1f}x  in process {inproc:5.1f}x; per cycle {cycle_us:4.0f} us out of process, "
+                  f"{inproc_us:4.0f} us in process   ({machine})")
+    med = {label: tuple(statistics.median(r[i] for r in runs) for i in range(6)) for label, runs in results.items()}
+    for i, what in enumerate(("total (with ECU start-up and join)", "cycles alone", "over CPU time",
+                              "in process (no second process, no transport)")):
         print(f"   median {what}: quiet {med['quiet'][i]:5.1f}x, busy {med['busy'][i]:5.1f}x = "
               f"{100.0 * med['busy'][i] / med['quiet'][i]:3.0f} % of quiet")
+    print(f"   median wall per cycle, quiet: {med['quiet'][4]:.0f} us out of process (join excluded), "
+          f"{med['quiet'][5]:.0f} us in process: {med['quiet'][4] - med['quiet'][5]:.0f} us for the second "
+          "process and the round trip")
 
 
 def _pct(values: list[float], q: float) -> float:

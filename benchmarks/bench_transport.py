@@ -16,9 +16,16 @@ Transports:
 - ``virtual``: python-can's in-process virtual bus, echo in a thread (baseline;
   it cannot cross processes).
 
+Lock-step turns (``--turns``, crd_pair): A sends a cycle's worth of frames (six
+inputs and a clock frame, as the co-simulation with SecOC does) and B answers
+with three (an override, its authenticator, a status), as in one lock-step
+cycle; median and p99 turn time and the CPU time of both processes per turn,
+with each side's frames sent in one write (``bus.batch()``) and one write per
+frame, in alternating blocks of 100 turns, side by side in one run.
+
 Every process started here is stopped by its PID at the end.
 
-Run: ``python benchmarks/bench_transport.py [--round-trips 5000] [--frames 20000]``
+Run: ``python benchmarks/bench_transport.py [--round-trips 5000] [--frames 20000] [--turns 4000]``
 """
 
 from __future__ import annotations
@@ -41,6 +48,67 @@ import can
 REPO_ROOT = Path(__file__).resolve().parents[1]
 READY_TIMEOUT_S = 10.0
 RECV_TIMEOUT_S = 5.0
+
+
+TURN_CLOCK_ID = 0x7F1
+TURN_OUT, TURN_BACK = 6, 3
+
+
+def _turn_main(channel: str) -> int:
+    """Child mode: answer every clock frame with ``TURN_BACK`` frames (in one write if it says so)."""
+    with can.Bus(interface="crd_pair", channel=channel, role="connect") as bus:
+        print("READY", flush=True)
+        with contextlib.suppress(can.CanOperationError):  # the bus went away: we are done
+            while True:
+                msg = bus.recv(timeout=None)
+                if msg.arbitration_id != TURN_CLOCK_ID:
+                    continue
+                with bus.batch() if msg.data[0] else contextlib.nullcontext():
+                    for i in range(TURN_BACK):
+                        bus.send(_frame(i))
+    return 0
+
+
+def measure_turns(turns: int) -> None:
+    """Lock-step turns on crd_pair, batched and frame by frame, alternating in blocks of (up to) 100."""
+    times: dict[bool, list[float]] = {True: [], False: []}
+    cpu: dict[bool, float] = {True: 0.0, False: 0.0}
+    children = _Children()
+    block = max(1, min(100, turns // 2))
+    with tempfile.TemporaryDirectory(prefix="crd-bench-") as tmp:
+        channel = os.path.join(tmp, "bus.sock")
+        with can.Bus(interface="crd_pair", channel=channel) as bus:
+            child = children.start(__file__, "--turn", channel)
+            try:
+                if child.stdout.readline().strip() != "READY" or not bus.wait_for_peer(READY_TIMEOUT_S):
+                    raise RuntimeError("the turn peer did not join")
+                for k in range(turns):
+                    batched = (k // block) % 2 == 0
+                    out = [_frame(i) for i in range(TURN_OUT)]
+                    out.append(can.Message(arbitration_id=TURN_CLOCK_ID, is_extended_id=False, data=[batched]))
+                    cpu0, start = _cpu_s(child.pid), time.perf_counter()
+                    with bus.batch() if batched else contextlib.nullcontext():
+                        for msg in out:
+                            bus.send(msg)
+                    for _ in range(TURN_BACK):
+                        _recv_number(bus)
+                    times[batched].append((time.perf_counter() - start) * 1e6)
+                    cpu[batched] += _cpu_s(child.pid) - cpu0
+            finally:
+                children.stop_all()
+    print(f"lock-step turns on crd_pair ({TURN_OUT} frames + clock out, {TURN_BACK} back), {turns} turns:")
+    for batched in (False, True):
+        values = sorted(times[batched])
+        print(f"  {'one write per turn (batch)' if batched else 'one write per frame':28s} median "
+              f"{statistics.median(values):6.1f} µs, p99 {values[int(0.99 * (len(values) - 1))]:7.1f} µs; "
+              f"CPU of both {1e6 * cpu[batched] / len(values):6.1f} µs per turn")
+
+
+def _cpu_s(child_pid: int) -> float:
+    """CPU time (user + system, s) of this process and of ``child_pid`` (from /proc, clock ticks)."""
+    with open(f"/proc/{child_pid}/stat") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return time.process_time() + (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def _echo_main(interface: str, channel: str) -> int:
@@ -234,10 +302,18 @@ def main() -> int:
     parser.add_argument("--round-trips", type=int, default=5000)
     parser.add_argument("--frames", type=int, default=20000, help="frames echoed for the throughput figure")
     parser.add_argument("--window", type=int, default=64, help="frames in flight for the throughput figure")
+    parser.add_argument("--turns", type=int, default=4000, help="lock-step turns on crd_pair (0: none)")
     parser.add_argument("--echo", nargs=2, metavar=("INTERFACE", "CHANNEL"), help=argparse.SUPPRESS)
+    parser.add_argument("--turn", metavar="CHANNEL", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.echo:
         return _echo_main(*args.echo)
+    if args.turn:
+        return _turn_main(args.turn)
+    if args.turns > 0:
+        measure_turns(args.turns)
+    if args.round_trips <= 0 or args.frames <= 0:
+        return 0
     print(f"round trips: {args.round_trips}; throughput: {args.frames} frames echoed, window {args.window}")
     print(f"{'transport':48s} {'RTT median µs':>14s} {'RTT p99 µs':>11s} {'echoed frames/s':>16s}")
     for name, setup in TRANSPORTS.items():

@@ -10,7 +10,7 @@ validity score per message. See ``docs/CONTRACTS.md``.
 from .codec import encode, encode_payload
 from .counter import COUNTER_MODULUS, CounterSequence
 from .crc import crc8_j1850, e2e_p01_crc
-from .database import AUTHENTICATORS, DATABASE, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_time_s, e2e_signal_names, signal_layout
+from .database import AUTHENTICATORS, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_time_s, e2e_signal_names, signal_layout
 from .contract import (
     BRAKE_DECEL_MAX_MPS2,
     ECU_CYCLE_S,
@@ -50,3 +50,12 @@ __all__ = [
     "Frame", "FrameError", "LengthError", "RangeError", "Receiver", "SignalError",
     "UnknownFrame", "crc8_j1850", "cycle_time_s", "e2e_signal_names", "signal_layout", "e2e_p01_crc", "encode", "encode_payload",
 ]
+
+
+def __getattr__(name: str):
+    """``DATABASE`` (the cantools database) is parsed on first use: most processes never need it."""
+    if name == "DATABASE":
+        from . import database
+
+        return database.DATABASE
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -20,7 +20,7 @@ from __future__ import annotations
 from types import MappingProxyType
 from typing import Mapping
 
-from .database import DATABASE, LAYOUTS, cycle_time_s, signal_layout
+from .database import LAYOUTS, choice_names, cycle_time_s, signal_layout
 from .units import dbc_per_si
 
 #: a receiver declares a message timed out after this many of its cycles without a fresh frame
@@ -45,10 +45,10 @@ def signal_resolution(message_name: str, signal_name: str) -> float:
 
 def enumeration(message_name: str, signal_name: str) -> Mapping[int, str]:
     """The signal's ``VAL_`` table: raw value -> name, in value order."""
-    signal = DATABASE.get_message_by_name(message_name).get_signal_by_name(signal_name)
-    if not signal.choices:
+    choices = choice_names(message_name, signal_name)
+    if not choices:
         raise KeyError(f"{message_name}.{signal_name} has no VAL_ enumeration")
-    return MappingProxyType({int(k): str(v) for k, v in sorted(signal.choices.items())})
+    return MappingProxyType(choices)
 
 
 def signal_dbc_per_si(message_name: str, signal_name: str) -> float:

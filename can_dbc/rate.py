@@ -77,4 +77,12 @@ class RateMonitor:
         return len(times) < self.min_count or times[-self.min_count] <= t_s - self.window_s + _EPS_S
 
     def fault(self, t_s: float) -> bool:
-        return self.too_fast(t_s) or self.too_slow(t_s)
+        """``too_fast(t_s) or too_slow(t_s)``, written out: the receiver asks it for every input every
+        cycle, and the two method calls cost more than their tests (about 0.3 µs per message)."""
+        window = self.window_s
+        if t_s - self._violation_t_s < window - _EPS_S:
+            return True  # too fast
+        first, times = self._first_t_s, self._times
+        if first is None or t_s - first < window - _EPS_S or t_s - times[-1] > self.active_s + _EPS_S:
+            return False  # not monitored for a whole window yet, or silent (a timeout, not a rate fault)
+        return len(times) < self.min_count or times[-self.min_count] <= t_s - window + _EPS_S

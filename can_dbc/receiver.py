@@ -37,7 +37,7 @@ from typing import Iterable, Mapping, NamedTuple
 
 import can
 
-from .counter import COUNTER_MODULUS, MAX_COUNTER_JUMP, counter_delta
+from .counter import COUNTER_MODULUS, MAX_COUNTER_JUMP
 from .crc import e2e_p01_crc8
 from .database import CYCLIC, FRAME_LENGTH, LAYOUTS, LAYOUTS_BY_ID, MessageLayout
 from .errors import (
@@ -52,7 +52,7 @@ from .errors import (
     UnknownFrame,
 )
 from .rate import RateMonitor
-from .secoc import AUTH_ID_OF, PROTECTED_ID_OF, SecOcVerifier
+from .secoc import AUTH_ID_OF, SecOcVerifier
 
 SCORE_MAX = 5
 SCORE_INVALID = 5
@@ -95,6 +95,31 @@ def _decode(layout: MessageLayout, payload: int) -> dict[str, float]:
     return values
 
 
+class _Rx:
+    """One accepted message's receive state: its layout and E2E/SecOC/rate bookkeeping.
+
+    One row per message, found with ONE dict look-up by frame ID per frame (panda's RX-check
+    table); it replaces five dicts keyed by message name that every frame looked up in turn.
+    """
+
+    __slots__ = ("layout", "name", "counter", "score", "sync_left", "rate", "protected", "held")
+
+    def __init__(self, layout: MessageLayout, rate: RateMonitor | None, protected: bool) -> None:
+        self.layout, self.name, self.rate, self.protected = layout, layout.name, rate, protected
+        self.counter: int | None = None  # the last counter seen (followed even while resynchronising)
+        self.score = 0
+        self.sync_left = 0
+        self.held: can.Message | None = None  # SecOC: the frame waiting for its authenticator
+
+    def bad(self) -> None:
+        if self.score < SCORE_MAX:
+            self.score += 1
+
+
+#: ``Frame``'s tuple built without its generated ``__new__`` (0.13 instead of 0.23 µs a frame, measured)
+_new_frame = tuple.__new__
+
+
 class Receiver:
     """Checks frames against the contract and keeps E2E state per message.
 
@@ -107,37 +132,38 @@ class Receiver:
         missing = wanted - set(LAYOUTS)
         if missing:
             raise KeyError(f"unknown messages {sorted(missing)}; expected from {sorted(LAYOUTS)}")
-        self._layouts = {fid: lay for fid, lay in LAYOUTS_BY_ID.items() if lay.name in wanted}
-        self._last_counter: dict[str, int] = {}
-        self._score: dict[str, int] = {name: 0 for name in wanted}
         self.stats: Counter[str] = Counter()
-        self._sync_left: dict[str, int] = {name: 0 for name in wanted}
-        self._rates = {name: RateMonitor(LAYOUTS[name].cycle_time_ms / 1000.0)
-                       for name in wanted if name in CYCLIC and LAYOUTS[name].cycle_time_ms}
         self._secoc = secoc
-        #: protected frame ID -> the frame held until its authenticator arrives
-        self._held: dict[int, can.Message | None] = {}
-        self._auth_of: dict[int, int] = {}
-        if secoc is not None:
-            self._auth_of = {PROTECTED_ID_OF[a]: a for fid in self._layouts if (a := AUTH_ID_OF.get(fid))}
-            self._held = dict.fromkeys(self._auth_of)
+        self._by_id: dict[int, _Rx] = {}
+        #: SecOC: authenticator frame ID -> the state of the message it authenticates
+        self._by_auth_id: dict[int, _Rx] = {}
+        for fid, layout in LAYOUTS_BY_ID.items():
+            if layout.name not in wanted:
+                continue
+            name, auth_id = layout.name, AUTH_ID_OF.get(fid)
+            rate = RateMonitor(layout.cycle_time_ms / 1000.0) if name in CYCLIC and layout.cycle_time_ms else None
+            rx = self._by_id[fid] = _Rx(layout, rate, secoc is not None and auth_id is not None)
+            if rx.protected:
+                self._by_auth_id[auth_id] = rx
+        self._by_name = {rx.name: rx for rx in self._by_id.values()}
 
     def score(self, name: str) -> int:
         """Current validity score of message ``name`` (0 good .. 5 invalid)."""
-        return self._score[name]
+        return self._by_name[name].score
 
     def is_valid(self, name: str) -> bool:
         """False while the message's validity score is at or above 5."""
-        return self._score[name] < SCORE_INVALID
+        return self._by_name[name].score < SCORE_INVALID
 
     def rx_flags(self, name: str, t_s: float) -> int:
         """``RX_RATE`` | ``RX_SEQUENCE`` for message ``name`` at cycle time ``t_s`` (0: no receiver fault)."""
-        rate = self._rates.get(name)
-        flags = RX_RATE if rate is not None and rate.fault(t_s) else 0
-        return flags | RX_SEQUENCE if self._sync_left[name] else flags
+        return self.health(name, t_s)[1]
 
-    def _bad(self, name: str) -> None:
-        self._score[name] = min(SCORE_MAX, self._score[name] + 1)
+    def health(self, name: str, t_s: float) -> tuple[int, int]:
+        """``(score(name), rx_flags(name, t_s))`` in one call: the ECU asks for both, every cycle."""
+        rx = self._by_name[name]
+        flags = RX_RATE if rx.rate is not None and rx.rate.fault(t_s) else 0
+        return rx.score, flags | RX_SEQUENCE if rx.sync_left else flags
 
     def check(self, msg: can.Message, t_s: float | None = None) -> Frame | None:
         """Check ``msg`` (received at cycle time ``t_s``, for the rate checks); return the :class:`Frame`.
@@ -146,91 +172,90 @@ class Receiver:
         until its authenticator, whose arrival returns the protected frame's :class:`Frame`.
         """
         fid = msg.arbitration_id
-        layout = self._layouts.get(fid)
-        if self._secoc is not None and not (msg.is_extended_id or msg.is_error_frame or msg.is_remote_frame):
-            if fid in self._held:
-                return self._hold(layout, msg)
-            if layout is None and fid in PROTECTED_ID_OF and PROTECTED_ID_OF[fid] in self._held:
-                msg, layout = self._authenticate(msg)
-        if layout is None or msg.is_extended_id or msg.is_error_frame or msg.is_remote_frame:
+        if msg.is_extended_id or msg.is_error_frame or msg.is_remote_frame:
+            rx = None
+        else:
+            rx = self._by_id.get(fid)
+            if rx is not None and rx.protected:
+                if rx.held is None:  # the common case, without a call: hold it for its authenticator
+                    rx.held = msg
+                    return None
+                return self._hold(rx, msg)
+            if rx is None and (rx := self._by_auth_id.get(fid)) is not None:
+                msg = self._authenticate(rx, msg)
+        if rx is None:
             self.stats["UnknownFrame"] += 1
             raise UnknownFrame(
                 f"expected an ID of the contract, got 0x{msg.arbitration_id:X}"
                 + (" (extended)" if msg.is_extended_id else "")
             )
-        name = layout.name
         try:
-            frame = self._check_known(layout, msg, t_s)
+            frame = self._check_known(rx, msg, t_s)
         except FrameError as exc:
             self.stats[type(exc).__name__] += 1
-            self._bad(name)
+            rx.bad()
             raise
         if frame.fresh:  # a good frame, even while resynchronising
-            self._score[name] = max(0, self._score[name] - 1)
+            if rx.score:
+                rx.score -= 1
             self.stats["good"] += 1
         else:
-            self._bad(name)
+            rx.bad()
             self.stats["repeated"] += 1
         return frame
 
-    def _hold(self, layout: MessageLayout, msg: can.Message) -> None:
+    def _hold(self, rx: _Rx, msg: can.Message) -> None:
         """Hold a protected frame for its authenticator; one it displaces was never authenticated."""
-        displaced = self._held[msg.arbitration_id]
-        self._held[msg.arbitration_id] = msg
+        displaced, rx.held = rx.held, msg
         if displaced is not None:
             self.stats["AuthError"] += 1
-            self._bad(layout.name)
-            raise AuthError(f"{layout.name}: frame without an authenticator (displaced by the next one)")
+            rx.bad()
+            raise AuthError(f"{rx.name}: frame without an authenticator (displaced by the next one)")
         return None
 
-    def _authenticate(self, auth: can.Message) -> tuple[can.Message, MessageLayout]:
-        """Verify ``auth`` against the held frame; returns that frame and its layout to check."""
-        fid = PROTECTED_ID_OF[auth.arbitration_id]
-        layout = self._layouts[fid]
-        held = self._held[fid]
-        self._held[fid] = None
+    def _authenticate(self, rx: _Rx, auth: can.Message) -> can.Message:
+        """Verify ``auth`` against the held frame; returns that frame, to be checked."""
+        held, rx.held = rx.held, None
         try:
             if held is None:
-                raise AuthError(f"{layout.name}: authenticator without a frame to authenticate")
-            self._secoc.verify(fid, held.data, auth.data)
+                raise AuthError(f"{rx.name}: authenticator without a frame to authenticate")
+            self._secoc.verify(rx.layout.frame_id, held.data, auth.data)
         except AuthError as exc:
             self.stats[type(exc).__name__] += 1
-            self._bad(layout.name)
+            rx.bad()
             raise
         self.stats["authenticated"] += 1
-        return held, layout
+        return held
 
-    def _sequence(self, name: str, delta: int) -> bool:
+    @staticmethod
+    def _sequence(rx: _Rx, delta: int) -> bool:
         """Update the sync state for a counter step ``delta``; True when the frame may be used."""
-        left = self._sync_left[name]
+        left = rx.sync_left
         if delta == 0 or delta > MAX_COUNTER_JUMP:
-            self._sync_left[name] = SYNC_FRAMES
+            rx.sync_left = SYNC_FRAMES
             return False
         if left:
             left = left - 1 if delta == 1 else SYNC_FRAMES
-            self._sync_left[name] = left
+            rx.sync_left = left
             return left == 0
         return True
 
-    def _check_known(self, layout: MessageLayout, msg: can.Message, t_s: float | None = None) -> Frame:
-        data = msg.data
+    def _check_known(self, rx: _Rx, msg: can.Message, t_s: float | None = None) -> Frame:
+        data, layout, name = msg.data, rx.layout, rx.name
         if msg.dlc != FRAME_LENGTH or len(data) != FRAME_LENGTH or msg.is_fd:
-            raise LengthError(
-                f"{layout.name}: expected DLC {FRAME_LENGTH}, got {msg.dlc} ({len(data)} data bytes)"
-            )
+            raise LengthError(f"{name}: expected DLC {FRAME_LENGTH}, got {msg.dlc} ({len(data)} data bytes)")
         crc = e2e_p01_crc8(layout.crc_seed, data)
         if crc != data[0]:
-            raise ChecksumError(f"{layout.name}: expected CRC 0x{crc:02X}, got 0x{data[0]:02X}")
+            raise ChecksumError(f"{name}: expected CRC 0x{crc:02X}, got 0x{data[0]:02X}")
         counter = data[1] & 0x0F
         if counter >= COUNTER_MODULUS:
-            raise CounterError(f"{layout.name}: expected counter 0..14, got {counter}")
-        name = layout.name
-        if t_s is not None and (rate := self._rates.get(name)) is not None:
-            rate.arrive(t_s)
-        previous = self._last_counter.get(name)
-        self._last_counter[name] = counter  # follow the new counter, but only after SYNC_FRAMES good ones
-        delta = 1 if previous is None else counter_delta(previous, counter)
-        synced = self._sequence(name, delta)
+            raise CounterError(f"{name}: expected counter 0..14, got {counter}")
+        if t_s is not None and rx.rate is not None:
+            rx.rate.arrive(t_s)
+        previous, rx.counter = rx.counter, counter  # follow the new counter, but only after SYNC_FRAMES good ones
+        delta = 1 if previous is None else (counter - previous) % COUNTER_MODULUS
+        # in sequence and in sync (the common case) needs no call to the sync state machine
+        synced = True if delta == 1 and not rx.sync_left else self._sequence(rx, delta)
         if delta > MAX_COUNTER_JUMP:
             raise CounterError(
                 f"{name}: expected counter {(previous + 1) % COUNTER_MODULUS}"
@@ -242,7 +267,7 @@ class Receiver:
             raise
         except Exception as exc:  # noqa: BLE001 - any decode failure is a frame error
             raise DecodeError(f"{name}: cannot decode payload {bytes(data).hex()}: {exc}") from exc
-        return Frame(name, signals, counter, delta != 0, synced)
+        return _new_frame(Frame, (name, signals, counter, delta != 0, synced))
 
     def receive(self, msg: can.Message, t_s: float | None = None) -> Frame | None:
         """Like :meth:`check` but never raises: rejected frames are counted, ``None`` returned.

@@ -24,6 +24,11 @@ has a core for every runnable task: in lock-step on a quiet machine that saves
 an OS wake-up per wait; on a busy one the bus only blocks, so it never takes a
 core from the peer it waits for. ``spin_s=0`` always blocks.
 
+Batches: the frames a participant sends inside ``with bus.batch():`` (or
+between ``begin_batch()`` and ``end_batch()``) leave in one socket write at its end (each is still its own frame, stamped at
+its ``send``, received one by one): one system call and one wake-up of the
+peer per lock-step turn instead of one per frame.
+
 Bounded: at most ``max_queue_frames`` (default 10,000, about 3 MB) received
 frames wait for ``recv``; more are dropped and counted (``dropped_frames``), and
 the next ``recv`` that finds the queue empty raises ``can.CanOperationError``
@@ -38,11 +43,12 @@ the frames already received, ``recv``); ``peer_count`` is then 0.
 from __future__ import annotations
 
 import collections
+import contextlib
 import logging
 import select
 import socket
 import time
-from typing import Any, Literal
+from typing import Any, Iterator, Literal
 
 import can
 
@@ -104,6 +110,9 @@ class PairSocketBus(can.BusABC):
         self._poller = select.poll()
         self._spin = AdaptiveSpin(float(spin_s))
         self._peer: socket.socket | None = None
+        self._batch: bytearray | None = None  # records of a batch being sent (see batch())
+        self._batch_timeout: float | None = None
+        self._batch_depth = 0
         peer = _connect(path)
         if peer is None:
             if role == "connect":
@@ -155,24 +164,73 @@ class PairSocketBus(can.BusABC):
         self._poll(0)
         return 1 if self._peer is not None and self._gone is None else 0
 
+    def wait_for_peer(self, timeout_s: float) -> bool:
+        """Block (in ``poll``, no sleeping) up to ``timeout_s`` until the other participant joins."""
+        deadline = time.monotonic() + timeout_s
+        while self._peer is None and self._gone is None and not self._is_shutdown:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0.0:
+                break
+            self._poll(remaining * 1000.0)
+        return self.peer_count == 1
+
     # -- python-can -----------------------------------------------------------------
     def send(self, msg: can.Message, timeout: float | None = None) -> None:
-        """Send ``msg`` to the peer; raise ``can.CanOperationError`` if there is none."""
+        """Send ``msg`` to the peer; raise ``can.CanOperationError`` if there is none.
+
+        Inside a :meth:`batch` the frame's record is kept and written with the batch's others.
+        """
         if self._gone is not None or self._peer is None or self._is_shutdown:
             self._cannot_send()
         stamp = time.time()
         record = wire.pack_frame(msg, stamp)
+        if self._batch is not None:
+            self._batch += record
+            self._batch_timeout = timeout
+        else:
+            self._send_records(record, timeout)
+        if self._receive_own:
+            self._queue.append(wire.own_message(msg, stamp, self.channel))
+
+    @contextlib.contextmanager
+    def batch(self) -> Iterator[None]:
+        """Frames sent in this block leave in one socket write when it ends (begin/end_batch)."""
+        self.begin_batch()
         try:
-            sent = self._peer.send(record)
+            yield
+        finally:
+            self.end_batch()
+
+    def begin_batch(self) -> None:
+        """Keep the frames sent from now on until the matching :meth:`end_batch` writes them in one go.
+
+        Each stays its own frame, stamped at its send and received one by one, in order;
+        what changes is one system call and one wake-up of the peer instead of one per
+        frame (a write that wakes the peer costs 10 to 30 µs here). The outermost end writes.
+        """
+        if self._batch is None:
+            self._batch, self._batch_timeout = bytearray(), None
+        self._batch_depth += 1
+
+    def end_batch(self) -> None:
+        """End a batch; the outermost writes its frames (one write), raising ``can.CanOperationError`` on failure."""
+        if self._batch_depth > 1:
+            self._batch_depth -= 1
+            return
+        records, self._batch, self._batch_depth = self._batch, None, 0
+        if records and self._gone is None and not self._is_shutdown:
+            self._send_records(bytes(records), self._batch_timeout)
+
+    def _send_records(self, records: bytes, timeout: float | None) -> None:
+        try:
+            sent = self._peer.send(records)
         except BlockingIOError:
             sent = 0
         except OSError as exc:
             self._lost(f"send failed: {exc}")
             raise can.CanOperationError(self._gone) from exc
-        if sent < wire.RECORD_SIZE:
-            self._write(record, sent, self._send_timeout_s if timeout is None else timeout)
-        if self._receive_own:
-            self._queue.append(wire.own_message(msg, stamp, self.channel))
+        if sent < len(records):
+            self._write(records, sent, self._send_timeout_s if timeout is None else timeout)
 
     def _cannot_send(self) -> None:
         if self._is_shutdown:
@@ -183,12 +241,22 @@ class PairSocketBus(can.BusABC):
         if self._peer is None:
             raise can.CanOperationError(f"no peer on {self.channel} yet: a frame needs a receiver")
 
+    def recv(self, timeout: float | None = None) -> can.Message | None:
+        # Fast path without filters (every frame passes): skips BusABC.recv's clock reads, filter
+        # check and retry loop, about 1 µs of each of a lock-step turn's five to nine receives.
+        if self._filters is None and not self._is_shutdown:
+            if self._queue:
+                return self._queue.popleft()
+            return self._recv_internal(timeout)[0]
+        return super().recv(timeout)
+
     def _recv_internal(self, timeout: float | None) -> tuple[can.Message | None, bool]:
         queue = self._queue
         if not queue:
-            self._poll(0)
-            if not queue and timeout != 0.0:
-                self._wait(timeout)
+            if timeout is not None and timeout <= 0.0:
+                self._poll(0)
+            else:
+                self._wait(timeout)  # its first poll takes what is already there
             if not queue:
                 self._raise_pending()
                 return None, False
@@ -212,6 +280,7 @@ class PairSocketBus(can.BusABC):
             elif now < deadline:
                 self._poll((deadline - now) * 1000.0)
             else:
+                self._poll(0)  # past the deadline (or a timeout too short to wait): one last look
                 break
         if self._gone is None:
             self._spin.waited(clock() - start)
@@ -298,10 +367,10 @@ class PairSocketBus(can.BusABC):
             except (KeyError, ValueError):
                 pass
 
-    def _write(self, record: bytes, sent: int, timeout_s: float) -> None:
-        """Finish sending ``record`` (``sent`` bytes are out), waiting up to ``timeout_s``."""
+    def _write(self, records: bytes, sent: int, timeout_s: float) -> None:
+        """Finish sending ``records`` (``sent`` bytes are out), waiting up to ``timeout_s``."""
         sock = self._peer
-        view = memoryview(record)[sent:]
+        view = memoryview(records)[sent:]
         deadline = time.monotonic() + timeout_s
         while view:
             remaining = deadline - time.monotonic()

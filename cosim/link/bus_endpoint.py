@@ -36,6 +36,8 @@ from .ecu_process import EcuProcess
 log = logging.getLogger(__name__)
 _POLL_S = 0.005
 _DRAIN_QUIET_S = 0.002
+#: how often a join blocked on the bus looks whether the spawned ECU died (s)
+_JOIN_CHECK_S = 0.05
 
 
 @runtime_checkable
@@ -43,6 +45,25 @@ class PeerCounting(Protocol):
     """A bus that knows how many other participants it has."""
 
     peer_count: int
+
+
+@runtime_checkable
+class PeerWaiting(Protocol):
+    """A bus that can block until its peer joins (``crd_pair``)."""
+
+    def wait_for_peer(self, timeout_s: float) -> bool:
+        """Wait up to ``timeout_s`` for the other participant; True once it is there."""
+
+
+@runtime_checkable
+class BatchSending(Protocol):
+    """A bus that can send several frames in one write (``crd_pair``), each still its own frame."""
+
+    def begin_batch(self) -> None:
+        """Keep the frames sent from now on."""
+
+    def end_batch(self) -> None:
+        """Write the kept frames in one go; raise ``can.CanError`` if that fails."""
 
 
 class BusEndpoint:
@@ -66,6 +87,7 @@ class BusEndpoint:
         try:
             self.bus = can.Bus(interface=options.interface, channel=channel, receive_own_messages=False)
             self.peers: PeerCounting | None = self.bus if isinstance(self.bus, PeerCounting) else None
+            self._batcher: BatchSending | None = self.bus if isinstance(self.bus, BatchSending) else None
             if options.mode == "process":
                 self._tmpdir = self._tmpdir or Path(tempfile.mkdtemp(prefix="crd-ecu-"))
                 if key is not None and not (options.key_file or config.key_file):  # the run's fresh key, 0600
@@ -102,7 +124,10 @@ class BusEndpoint:
             if time.monotonic() >= deadline:
                 raise EcuLinkError(f"expected an ECU on {self.options.interface} {self.channel} within "
                                    f"{self.options.join_timeout_s} s, none joined")
-            time.sleep(_POLL_S)
+            if isinstance(self.bus, PeerWaiting):  # woken by the connection itself, not the next poll
+                self.bus.wait_for_peer(min(_JOIN_CHECK_S, max(0.0, deadline - time.monotonic())))
+            else:
+                time.sleep(_POLL_S)
         # drop what came before, up to a quiet moment: a real-time ECU sends each SafetyOverride
         # and its authenticator back to back, and a drain ending between the two would hand the
         # gateway an authenticator without its frame (a false authentication failure)
@@ -122,6 +147,22 @@ class BusEndpoint:
             self.bus.send(msg)
         except can.CanError as exc:
             self._bus_error(t_s, exc)
+
+    def send_all(self, msgs: list[can.Message], t_s: float) -> None:
+        """Send ``msgs`` in order; on a bus that batches, in one write (one wake-up of the ECU)."""
+        if self._batcher is None:
+            for msg in msgs:
+                self.send(msg, t_s)
+            return
+        self._batcher.begin_batch()
+        try:
+            for msg in msgs:
+                self.send(msg, t_s)  # a frame refused at once is a bus error of its own, as unbatched
+        finally:
+            try:
+                self._batcher.end_batch()
+            except can.CanError as exc:  # the batch's write failed
+                self._bus_error(t_s, exc)
 
     def drain(self, t_s: float, into: list[can.Message]) -> list[can.Message]:
         """Append every frame already received to ``into``; returns it."""
@@ -158,15 +199,27 @@ class BusEndpoint:
         log.warning("t=%.3f s: ECU lost: %s", t_s, detail)
 
     def close(self) -> None:
-        """Stop the spawned ECU (by PID), then leave the bus; idempotent."""
+        """Stop the spawned ECU (by PID), then leave the bus; idempotent.
+
+        In lock-step the bus is left right after SIGTERM: the ECU, blocked waiting for the
+        next ``SimClock``, wakes at the peer's ``BYE`` instead of at its next poll timeout
+        (up to 50 ms), and stops, its stop event already set (a real-time ECU still sends
+        until it stops, so there the bus is left after it exited).
+        """
         try:
             if self.process is not None:
+                self.process.signal_stop()
+                if not self.options.realtime:
+                    self._leave_bus()
                 code = self.process.stop(self.options.stop_timeout_s)
                 self.ecu_report = self.process.output()
                 log.info("crd ecu pid %d exited with %s", self.process.pid, code)
         finally:
-            if self.bus is not None:
-                self.bus.shutdown()
+            self._leave_bus()
             if self._tmpdir is not None:
                 shutil.rmtree(self._tmpdir, ignore_errors=True)
                 self._tmpdir = None
+
+    def _leave_bus(self) -> None:
+        if self.bus is not None:
+            self.bus.shutdown()  # idempotent

@@ -57,17 +57,11 @@ class LockStepLink:
         pass
 
     def send(self, t_s: float, cycle: int, frames: list[can.Message]) -> list[can.Message]:
-        """Send ``frames``, then ``SimClock``; returns ``[SimClock]``."""
-        endpoint = self.endpoint
-        for msg in frames:
-            endpoint.send(msg, t_s)
+        """Send ``frames``, then ``SimClock`` (and its authenticator), in one batch; returns what it added."""
         clock = encode("SimClock", {"SimTimeMs": int(round(t_s * 1000.0))}, self._clock_seq.next())
-        endpoint.send(clock, t_s)
-        if self._signer is None:
-            return [clock]
-        auth = self._signer.authenticator(clock)  # SecOC: the clock's authenticator right after it
-        endpoint.send(auth, t_s)
-        return [clock, auth]
+        added = [clock] if self._signer is None else [clock, self._signer.authenticator(clock)]
+        self.endpoint.send_all([*frames, *added], t_s)  # SecOC: the clock's authenticator right after it
+        return added
 
     def collect(self, t_s: float, cycle: int) -> list[can.Message]:
         """Wait (bounded) for this cycle's reply, then take anything else already there."""

@@ -79,6 +79,7 @@ _WHEEL_MAX_KMH = signal_layout("WheelSpeeds", "WheelSpeedFL").maximum
 __all__ = ["PHASES", "ClosedLoop", "ecu_config", "run_scenario"]
 
 Progress = Callable[[float, float], None]
+_new_tuple = tuple.__new__
 
 
 def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
@@ -91,9 +92,10 @@ def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
 class _Outgoing:
     """What the first half of a cycle leaves for the second.
 
-    A plain slotted class: built once per cycle, and about 3x cheaper to build
-    (0.6 instead of 2.0 µs, measured) than the frozen dataclass it replaces,
-    whose ``__init__`` goes through ``object.__setattr__``; nothing mutates it.
+    A plain slotted class: built once per cycle, and about 3.5x cheaper to build
+    (0.26 instead of 0.96 µs, timeit on the loaded 2-core machine) than the
+    frozen dataclass it replaces, whose ``__init__`` goes through
+    ``object.__setattr__``; nothing mutates it.
     """
 
     __slots__ = ("sample", "pedals", "gap_m", "frames")
@@ -115,6 +117,7 @@ class ClosedLoop:
         self.n_track = int(round(OBJECT_TRACK_PERIOD_S / ECU_CYCLE_S))
         self._bumper_offset_m = scenario.plant.front_bumper_offset_m
         self.scene = Scene(scenario.scene_objects(), scenario.plant, scenario.radar, scenario.end)
+        self._has_scene = bool(self.scene)  # its objects are fixed: asked once, not 4x per cycle (Scene.__bool__)
         self._bumper_m = 0.0  # front bumper at this cycle's first half (m): the contact look-ahead's start
         self.driver = make_driver(scenario.driver)
         self.radar = RadarModel(scenario.radar, np.random.default_rng(scenario.scenario.seed))
@@ -142,19 +145,25 @@ class ClosedLoop:
 
     # -- one cycle ------------------------------------------------------------
     def _frames_out(self, cycle: int, sample: PlantSample, pedals: Pedals) -> list:
-        top = _WHEEL_MAX_KMH
-        fl, fr, rl, rr = [min(top, max(0.0, w * KMH_PER_MPS)) for w in sample.wheel_speeds_mps]
+        top, k = _WHEEL_MAX_KMH, KMH_PER_MPS
+        # the four clamps written out, not a list comprehension (1.08 instead of 1.39 µs, timeit)
+        w_fl, w_fr, w_rl, w_rr = sample.wheel_speeds_mps
         out = [
             encode("DriverInput", {"AccelPedal": pedals.accel_pct, "BrakePedal": pedals.brake_pct,
                                    "SteeringWheelAngle": 0.0}, self._next_driver()),
-            encode("WheelSpeeds", {"WheelSpeedFL": fl, "WheelSpeedFR": fr, "WheelSpeedRL": rl,
-                                   "WheelSpeedRR": rr}, self._next_wheels()),
+            encode("WheelSpeeds", {"WheelSpeedFL": min(top, max(0.0, w_fl * k)),
+                                   "WheelSpeedFR": min(top, max(0.0, w_fr * k)),
+                                   "WheelSpeedRL": min(top, max(0.0, w_rl * k)),
+                                   "WheelSpeedRR": min(top, max(0.0, w_rr * k))}, self._next_wheels()),
         ]
         if cycle % self.n_track == 0:
             out.append(encode("ObjectTrack", self.radar.measure().signals(), self._next_track()))
         if self._signer is not None:  # each frame followed by its SecOC authenticator
             sign = self._signer.authenticator
-            out = [f for msg in out for f in (msg, sign(msg))]
+            signed = []
+            for msg in out:  # a loop, not a nested comprehension (its call: 0.26 instead of 0.67 µs, timeit)
+                signed += (msg, sign(msg))
+            out = signed
         return out
 
     def _cycle_out(self, t_s: float, cycle: int) -> _Outgoing:
@@ -162,11 +171,11 @@ class ClosedLoop:
         self.link.pace(cycle)
         sample = self.plant.read()
         self._check_sample(sample, t_s)
-        scene = self.scene
+        scene, has_scene = self.scene, self._has_scene
         bumper_m = self._bumper_m = sample.position_m + self._bumper_offset_m
-        gap_m = scene.observe(t_s, bumper_m) if scene else float("inf")
+        gap_m = scene.observe(t_s, bumper_m) if has_scene else float("inf")
         pedals = self.driver(t_s, sample.position_m, sample.speed_mps)
-        truth = scene.radar_truth(t_s, bumper_m, sample.speed_mps) if scene else None
+        truth = scene.radar_truth(t_s, bumper_m, sample.speed_mps) if has_scene else None
         if truth is not None:
             self.radar.sample(truth.gap_m, truth.range_rate_mps, truth.lateral_m)
         else:
@@ -186,11 +195,9 @@ class ClosedLoop:
         return nxt
 
     def _log_cycle(self, t_s: float, out: _Outgoing, received: list, applied: Actuation) -> None:
-        append = self.record.frames.append
-        for msg in out.frames:
-            append(LoggedFrame(t_s, msg.arbitration_id, bytes(msg.data)))
-        for msg in received:
-            append(LoggedFrame(t_s, msg.arbitration_id, bytes(msg.data)))
+        # LoggedFrame's tuple built directly, without its generated __new__ (0.11 instead of 0.20 µs a frame)
+        self.record.frames.extend([_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data)))
+                                   for frames in (out.frames, received) for msg in frames])
         sample, pedals = out.sample, out.pedals
         self.record.rows.append((t_s, sample.position_m, sample.speed_mps, sample.accel_mps2, applied.throttle,
                                  applied.brake, self.gateway.mode, out.gap_m, pedals.accel_pct, pedals.brake_pct))
@@ -200,7 +207,7 @@ class ClosedLoop:
         plant, h, scene = self.plant, self.h_s, self.scene
         plant.set_actuation(applied.throttle, applied.brake)
         span = self.n_sub * h
-        watch = bool(scene) and scene.may_contact(k * h, self._bumper_m, speed_mps, span)
+        watch = self._has_scene and scene.may_contact(k * h, self._bumper_m, speed_mps, span)
         if self.batch_steps and not watch:
             plant.step(k * h, span)
             return k + self.n_sub, False
@@ -273,7 +280,7 @@ class ClosedLoop:
 
     def _ended(self, t_s: float, speed_mps: float) -> bool:
         """An ``[end]`` condition has been met (recorded as an ``end`` event)."""
-        reason = self.scene.end_reason(t_s, self._bumper_m, speed_mps) if self.scene else None
+        reason = self.scene.end_reason(t_s, self._bumper_m, speed_mps) if self._has_scene else None
         if reason is not None:
             self.record.metrics.end_reason = reason
             self.record.events.append(RunEvent(t_s, "end", reason))

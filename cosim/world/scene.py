@@ -25,20 +25,24 @@ decides. ``ObjectLateral`` is the object's centre offset ``y``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Sequence
+from operator import itemgetter
+from typing import NamedTuple, Sequence
 
 from ..scenarios.config import EndConfig, ObjectConfig, PlantConfig, RadarConfig
 from .scene_motion import Lateral, Longitudinal, motions
 
 #: half of a 3.5 m lane: the radar's in-lane corridor for its object selection ([M], class value).
 LANE_HALF_WIDTH_M = 1.75
+_LANE_THEN_GAP = itemgetter(0, 1)  # the radar's choice: in-lane objects first, then the nearest
 _ACCEL_BOUND_MPS2 = 50.0  # no body changes speed faster than this within a cycle (contact look-ahead)
 
 
-@dataclass(frozen=True, slots=True)
-class Truth:
-    """What the radar sees of the chosen object: gap (m), range rate (m/s), centre offset (m)."""
+class Truth(NamedTuple):
+    """What the radar sees of the chosen object: gap (m), range rate (m/s), centre offset (m).
+
+    Immutable; a ``NamedTuple`` rather than a frozen dataclass because one is built every
+    cycle: 0.26 instead of 0.56 µs (timeit).
+    """
 
     gap_m: float
     range_rate_mps: float
@@ -56,13 +60,14 @@ class SceneObject:
         self.brake_t_s: float | None = cfg.brake_at_s
         self.lateral_t_s: float | None = cfg.lateral_at_s
 
-    def arm(self, t_s: float, gap_m: float) -> None:
-        """Fire the gap triggers (once) when the ego's gap has fallen to them."""
-        c = self.cfg
+    def arm(self, t_s: float, gap_m: float) -> bool:
+        """Fire the gap triggers (once) when the ego's gap has fallen to them; whether one fired."""
+        c, fired = self.cfg, False
         if self.brake_t_s is None and c.brake_at_gap_m is not None and gap_m <= c.brake_at_gap_m:
-            self.brake_t_s = t_s
+            self.brake_t_s, fired = t_s, True
         if self.lateral_t_s is None and c.lateral_at_gap_m is not None and gap_m <= c.lateral_at_gap_m:
-            self.lateral_t_s = t_s
+            self.lateral_t_s, fired = t_s, True
+        return fired
 
     def lon_state(self, t_s: float) -> tuple[float, float]:
         return self.lon.state(t_s, self.brake_t_s)
@@ -81,9 +86,25 @@ class Scene:
         self._radar, self._end = radar, end
         self._tan_half_fov = math.tan(math.radians(radar.field_of_view_deg / 2.0))
         self._moved = self._faster = False
+        self._states_t_s: float | None = None
+        self._states: list[tuple[SceneObject, float, float, float, float]] = []
 
     def __bool__(self) -> bool:
         return bool(self.objects)
+
+    def states(self, t_s: float) -> list[tuple[SceneObject, float, float, float, float]]:
+        """Each object with its (rear (m), speed (m/s), centre offset (m), lateral speed (m/s)) at ``t_s``.
+
+        Computed once per time and kept until another time is asked or a trigger fires: one
+        cycle asks at its time four times (observe, radar_truth, end_reason, may_contact). With
+        the Truth record and the written-out tests below, those four took 3.05 µs a cycle before
+        and 2.30 µs after (paper scenario, one object, min of 7).
+        """
+        if t_s != self._states_t_s:
+            self._states = [(obj, *obj.lon.state(t_s, obj.brake_t_s), *obj.lat.state(t_s, obj.lateral_t_s))
+                            for obj in self.objects]
+            self._states_t_s = t_s
+        return self._states
 
     # -- geometry -------------------------------------------------------------
     def _lateral_overlap(self, obj: SceneObject, y_m: float) -> bool:
@@ -92,44 +113,41 @@ class Scene:
     def path_gap(self, t_s: float, bumper_m: float) -> tuple[float, SceneObject | None]:
         """Gap (m) to the nearest object ahead whose body overlaps the ego's laterally (inf: none)."""
         best, found = math.inf, None
-        for obj in self.objects:
-            rear, _ = obj.lon_state(t_s)
+        for obj, rear, _, y, _ in self.states(t_s):
             if rear + obj.cfg.length_m <= bumper_m - self._len:
                 continue  # passed
-            if self._lateral_overlap(obj, obj.lat_state(t_s)[0]) and rear - bumper_m < best:
+            if abs(y) < self._half_w + obj.cfg.width_m / 2.0 and rear - bumper_m < best:  # _lateral_overlap
                 best, found = rear - bumper_m, obj
         return best, found
 
     def observe(self, t_s: float, bumper_m: float) -> float:
         """Once per ECU cycle: fire the gap triggers; the path gap (m, inf without one)."""
-        for obj in self.objects:
-            obj.arm(t_s, obj.lon_state(t_s)[0] - bumper_m)
+        fired = False
+        for obj, rear, _, _, _ in self.states(t_s):
+            fired = obj.arm(t_s, rear - bumper_m) or fired
+        if fired:
+            self._states_t_s = None  # a trigger time changed: the states are worked out again
         return self.path_gap(t_s, bumper_m)[0]
 
     # -- the radar's object ---------------------------------------------------
-    def _visible(self, gap_m: float, y_m: float, width_m: float) -> bool:
-        nearest_y = max(0.0, abs(y_m) - width_m / 2.0)
-        return 0.0 < gap_m <= self._radar.max_range_m and nearest_y <= gap_m * self._tan_half_fov
-
     def radar_truth(self, t_s: float, bumper_m: float, speed_mps: float) -> Truth | None:
         """The object the radar reports (see the module docstring), or None."""
         seen = []
-        for obj in self.objects:
-            rear, v = obj.lon_state(t_s)
-            y, _ = obj.lat_state(t_s)
-            gap = rear - bumper_m
-            if self._visible(gap, y, obj.cfg.width_m):
-                in_lane = abs(y) - obj.cfg.width_m / 2.0 < LANE_HALF_WIDTH_M
+        for obj, rear, v, y, _ in self.states(t_s):
+            gap, half_width = rear - bumper_m, obj.cfg.width_m / 2.0
+            # visible: ahead, within range, its nearest point inside the field of view
+            if 0.0 < gap <= self._radar.max_range_m and max(0.0, abs(y) - half_width) <= gap * self._tan_half_fov:
+                in_lane = abs(y) - half_width < LANE_HALF_WIDTH_M
                 seen.append((not in_lane, gap, Truth(gap, v - speed_mps, y)))
-        return min(seen, key=lambda s: (s[0], s[1]))[2] if seen else None
+        if len(seen) == 1:  # the common case: min() would return it
+            return seen[0][2]
+        return min(seen, key=_LANE_THEN_GAP)[2] if seen else None
 
     # -- contact --------------------------------------------------------------
     def may_contact(self, t_s: float, bumper_m: float, speed_mps: float, span_s: float) -> bool:
         """Whether any body could come into contact within the next ``span_s`` (cheap, conservative)."""
         slack = 0.5 * _ACCEL_BOUND_MPS2 * span_s * span_s + 0.01
-        for obj in self.objects:
-            rear, v = obj.lon_state(t_s)
-            y, vy = obj.lat_state(t_s)
+        for obj, rear, v, y, vy in self.states(t_s):
             reach = abs(speed_mps - v) * span_s + slack
             lon = rear - bumper_m <= reach and rear + obj.cfg.length_m >= bumper_m - self._len - reach
             lat = abs(y) - (self._half_w + obj.cfg.width_m / 2.0) <= abs(vy) * span_s + 0.01
@@ -139,10 +157,9 @@ class Scene:
 
     def contact(self, t_s: float, bumper_m: float) -> tuple[SceneObject, float] | None:
         """The object in contact with the ego at ``t_s`` and its gap (m), or None."""
-        for obj in self.objects:
-            rear, _ = obj.lon_state(t_s)
+        for obj, rear, _, y, _ in self.states(t_s):
             lon = rear - bumper_m <= 0.0 and rear + obj.cfg.length_m > bumper_m - self._len
-            if lon and self._lateral_overlap(obj, obj.lat_state(t_s)[0]):
+            if lon and self._lateral_overlap(obj, y):
                 return obj, rear - bumper_m
         return None
 

@@ -28,40 +28,39 @@ def _timed_out(t_s: float, rx_t_s: float, timeout_s: float) -> bool:
     return not (t_s - rx_t_s <= timeout_s + AGE_TOLERANCE_S)  # NaN counts as timed out
 
 
-def _implausible(inputs: CoreInputs) -> bool:
-    wheels = inputs.wheel_speeds_mps
-    # one sum is finite iff every term is (NaN and inf propagate; our magnitudes cannot overflow)
-    total = (sum(wheels) + inputs.accel_pedal + inputs.brake_pedal + inputs.object_range_m
-             + inputs.object_range_rate_mps + inputs.t_s)
-    if not math.isfinite(total):
-        return True
-    if min(wheels) < 0.0 or inputs.object_range_m < 0.0:
-        return True
-    return not (0.0 <= inputs.accel_pedal <= 1.0 and 0.0 <= inputs.brake_pedal <= 1.0)
-
-
 def fault_flags(inputs: CoreInputs, params: CoreParams) -> int:
     """The fault bit field for this cycle (0 when every input is valid)."""
     t = inputs.t_s
     flags = 0
-    if _timed_out(t, inputs.wheel_rx_t_s, params.wheel_speeds_timeout_s):
+    # _timed_out written out (three calls a cycle): not (age <= timeout + tolerance), so NaN times out
+    if not t - inputs.wheel_rx_t_s <= params.wheel_speeds_timeout_s + AGE_TOLERANCE_S:
         flags |= 1 << FaultFlag.WHEEL_SPEED_TIMEOUT
-    if _timed_out(t, inputs.driver_rx_t_s, params.driver_input_timeout_s):
+    if not t - inputs.driver_rx_t_s <= params.driver_input_timeout_s + AGE_TOLERANCE_S:
         flags |= 1 << FaultFlag.DRIVER_INPUT_TIMEOUT
-    if _timed_out(t, inputs.object_rx_t_s, params.object_timeout_s):
+    if not t - inputs.object_rx_t_s <= params.object_timeout_s + AGE_TOLERANCE_S:
         flags |= 1 << FaultFlag.OBJECT_TIMEOUT
     limit = params.e2e_invalid_score
     if max(inputs.wheel_e2e_score, inputs.driver_e2e_score, inputs.object_e2e_score) >= limit:
         flags |= 1 << FaultFlag.E2E_ERROR
-    if _implausible(inputs):
+    # non-finite or impossible values: one sum is finite iff every term is (NaN and inf propagate;
+    # our magnitudes cannot overflow), and then the ranges
+    wheels = inputs.wheel_speeds_mps
+    if (not math.isfinite(sum(wheels) + inputs.accel_pedal + inputs.brake_pedal + inputs.object_range_m
+                          + inputs.object_range_rate_mps + t)
+            or min(wheels) < 0.0 or inputs.object_range_m < 0.0
+            or not (0.0 <= inputs.accel_pedal <= 1.0 and 0.0 <= inputs.brake_pedal <= 1.0)):
         flags |= 1 << FaultFlag.INTERNAL
     return flags
 
 
 def wheel_speeds_valid(inputs: CoreInputs, params: CoreParams) -> bool:
     """Whether this cycle's wheel speeds may update the speed estimate."""
+    wheels = inputs.wheel_speeds_mps
     return (
         not _timed_out(inputs.t_s, inputs.wheel_rx_t_s, params.wheel_speeds_timeout_s)
         and inputs.wheel_e2e_score < params.e2e_invalid_score
-        and all(math.isfinite(v) and v >= 0.0 for v in inputs.wheel_speeds_mps)
+        # a finite sum proves every term finite (NaN and inf propagate), and then min() is exact;
+        # a sum that overflowed falls back to the term-by-term test. Saves the generator (~0.6 µs).
+        and (math.isfinite(sum(wheels)) or all(math.isfinite(v) for v in wheels))
+        and min(wheels) >= 0.0
     )

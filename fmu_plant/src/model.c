@@ -3,7 +3,9 @@
  * One step of h <= PLANT_STEP_S (normally exactly PLANT_STEP_S; shorter only where a
  * communication point falls between two points of the 1 ms grid):
  *   powertrain  F_lag += a_t (throttle * F_max - F_lag),  F_d = min(F_lag, P_max / max(w_d r, 1 m/s))
- *   brakes      p += a_b (brake(t - T_d) - p),  per-axle ABS modulation of p
+ *   brakes      u = min(brake(t - T_d), brake(t - f_d T_d)),  p += a (u - p) with a from tau_b
+ *               while p rises and from f_tau tau_b while it falls (release: no pad travel,
+ *               the valves open; f_d = f_tau = 1 by default),  per-axle ABS modulation of p
  *   tyres       kappa = (w r - v) / max(v, V_FLOOR),  Fx = mu D Fz sin(C atan(B k - E (B k - atan(B k))))
  *   wheels      J dw/dt = T_drive - T_brake - Fx r     (linearly implicit Euler, w >= 0)
  *   chassis     m dv/dt = sum Fx - F_aero - m g sin(grade) - F_roll   (v >= 0)
@@ -47,6 +49,11 @@ const char *plant_check_parameters(const PlantModel *m, char *buf, size_t len) {
     return NULL;
 }
 
+/* Time constant of falling brake pressure, s. */
+static double release_tau(const PlantVariables *p) {
+    return p->brake_release_time_constant_fraction * p->brake_time_constant;
+}
+
 void plant_initialize(PlantModel *m) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
@@ -57,7 +64,9 @@ void plant_initialize(PlantModel *m) {
     s->omega_radps[PLANT_FRONT] = p->v0 / p->wheel_radius;
     s->omega_radps[PLANT_REAR] = p->v0 / p->wheel_radius;
     s->delay_len = (int)lround(p->brake_dead_time / PLANT_STEP_S);
+    s->release_delay_len = (int)lround(p->brake_release_dead_time_fraction * p->brake_dead_time / PLANT_STEP_S);
     k->alpha_brake = 1.0 - exp(-PLANT_STEP_S / p->brake_time_constant);
+    k->alpha_release = 1.0 - exp(-PLANT_STEP_S / release_tau(p));
     k->alpha_throttle = 1.0 - exp(-PLANT_STEP_S / p->throttle_time_constant);
     k->axle_inertia = 2.0 * p->wheel_inertia;
     k->brake_share[PLANT_FRONT] = p->brake_front_share;
@@ -67,12 +76,19 @@ void plant_initialize(PlantModel *m) {
     plant_publish_outputs(m);
 }
 
-/* Brake command after the hydraulic dead time: a ring buffer of delay_len steps. */
+/* Brake command after the hydraulic dead times: a ring buffer of delay_len steps with a
+ * second tap release_delay_len (<= delay_len) steps back. The pressure follows the smaller
+ * of the two, so a rise arrives after T_d and a fall after T_r. */
 static double delayed_brake(PlantState *s, double brake) {
     if (s->delay_len == 0) {
         return brake;
     }
     double out = s->delay_buf[s->delay_head];
+    if (s->release_delay_len < s->delay_len) {
+        double recent = s->release_delay_len == 0 ? brake :
+            s->delay_buf[(s->delay_head - s->release_delay_len + s->delay_len) % s->delay_len];
+        out = fmin(out, recent);
+    }
     s->delay_buf[s->delay_head] = brake;
     s->delay_head = (s->delay_head + 1) % s->delay_len;
     return out;
@@ -150,21 +166,24 @@ static double axle_step(PlantModel *m, int axle, double fz_n, double h) {
 
 /* First-order lag factors 1 - exp(-h/tau): the ones derived at initialisation for a
  * full step (so whole steps compute exactly what they always did), else for h. */
-static void lag_factors(const PlantModel *m, double h, double *a_throttle, double *a_brake) {
+static void lag_factors(const PlantModel *m, double h, double *a_throttle, double *a_brake,
+                        double *a_release) {
     if (h == PLANT_STEP_S) {
         *a_throttle = m->k.alpha_throttle;
         *a_brake = m->k.alpha_brake;
+        *a_release = m->k.alpha_release;
         return;
     }
     *a_throttle = 1.0 - exp(-h / m->var.throttle_time_constant);
     *a_brake = 1.0 - exp(-h / m->var.brake_time_constant);
+    *a_release = 1.0 - exp(-h / release_tau(&m->var));
 }
 
 static void powertrain_and_brake_step(PlantModel *m, double h, bool enters_cell) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
-    double a_throttle, a_brake;
-    lag_factors(m, h, &a_throttle, &a_brake);
+    double a_throttle, a_brake, a_release;
+    lag_factors(m, h, &a_throttle, &a_brake, &a_release);
     s->drive_force_lag_n += a_throttle * (p->throttle * p->max_drive_force - s->drive_force_lag_n);
     double w_driven = m->k.drive_share[PLANT_FRONT] * s->omega_radps[PLANT_FRONT] +
                       m->k.drive_share[PLANT_REAR] * s->omega_radps[PLANT_REAR];
@@ -173,7 +192,8 @@ static void powertrain_and_brake_step(PlantModel *m, double h, bool enters_cell)
     if (enters_cell) {
         s->brake_delayed = delayed_brake(s, p->brake);
     }
-    s->pressure += a_brake * (s->brake_delayed - s->pressure);
+    double a_p = s->brake_delayed < s->pressure ? a_release : a_brake;
+    s->pressure += a_p * (s->brake_delayed - s->pressure);
 }
 
 void plant_step(PlantModel *m, double h, bool enters_cell) {

@@ -34,12 +34,14 @@ typedef struct {
     double brake_delayed;              /* brake(t - T_d) for the current 1 ms cell */
     double delay_buf[PLANT_DELAY_CAP];
     int delay_len;
+    int release_delay_len;             /* steps of the shorter release dead time */
     int delay_head;
 } PlantState;
 
 /* Constants derived from the parameters once, at initialisation. */
 typedef struct {
     double alpha_brake;     /* 1 - exp(-h / brake_time_constant) */
+    double alpha_release;   /* 1 - exp(-h / brake_release_time_constant) */
     double alpha_throttle;  /* 1 - exp(-h / throttle_time_constant) */
     double axle_inertia;    /* kg m^2, two wheels */
     double brake_share[PLANT_AXLES];

@@ -184,3 +184,13 @@ def test_ecu_process_config_round_trips_exactly(tmp_path):
     cfg = EcuConfig(strategy="conservative", standoff_m=2.1, actuation_latency_s=0.1 + 0.2)
     back = EcuConfig.from_toml(write_ecu_config(tmp_path / "e.toml", cfg))
     assert back == cfg
+
+
+def test_a_lock_step_ecu_stops_at_the_masters_bye_quietly_with_exit_0(plant_fmu3):
+    """The master leaves the bus right after SIGTERM: the ECU wakes at BYE, exits 0, and logs no bus error."""
+    loop = ClosedLoop(scenario_from_dict(SHORT), plant_fmu3, "tightening", ecu=EcuOptions(mode="process"))
+    pid = loop.link.pid
+    rec = loop.run()
+    assert rec.error is None and loop.link.process.returncode == 0
+    assert "ecu tightening: final mode" in rec.ecu_report and "bus error" not in rec.ecu_report
+    assert process_gone(pid)

@@ -96,3 +96,53 @@ def test_a_third_participant_is_refused(channel: str, caplog) -> None:
 def test_spin_must_not_be_negative(channel: str) -> None:
     with pytest.raises(can.CanInitializationError, match="spin_s"):
         PairSocketBus(channel, spin_s=-1.0)
+
+
+def _count_writes(bus: PairSocketBus, monkeypatch) -> list[int]:
+    writes: list[int] = []
+    real = bus._send_records
+
+    def counted(records: bytes, timeout) -> None:
+        writes.append(len(records))
+        real(records, timeout)
+    monkeypatch.setattr(bus, "_send_records", counted)
+    return writes
+
+
+def test_a_batch_leaves_in_one_write_and_arrives_frame_by_frame(channel: str, monkeypatch) -> None:
+    with PairSocketBus(channel, receive_own_messages=True) as a, PairSocketBus(channel, role="connect") as b:
+        _wait_peer(a)
+        writes = _count_writes(a, monkeypatch)
+        with a.batch():
+            for i in range(5):
+                a.send(_frame(i))
+                with a.batch():  # nested: only the outermost end writes
+                    a.send(_frame(10 + i))
+            assert writes == [] and b.recv(timeout=0.05) is None  # kept until the block ends
+        assert writes == [10 * 24]  # ten 24-byte records, one write
+        got = [b.recv(timeout=2.0) for _ in range(10)]
+        assert [int.from_bytes(m.data, "little") for m in got] == [n for i in range(5) for n in (i, 10 + i)]
+        assert all(m.is_rx for m in got) and [m.timestamp for m in got] == sorted(m.timestamp for m in got)
+        own = [a.recv(timeout=0.0) for _ in range(10)]  # own copies, at their send
+        assert [int.from_bytes(m.data, "little") for m in own] == [n for i in range(5) for n in (i, 10 + i)]
+        assert all(not m.is_rx for m in own) and b.recv(timeout=0.0) is None
+        a.send(_frame(99))  # after the batch: one write per frame again
+        assert writes[1:] == [24] and b.recv(timeout=2.0).data == (99).to_bytes(4, "little")
+
+
+def test_a_frame_sent_in_a_batch_to_a_gone_peer_is_refused_at_once(channel: str) -> None:
+    with PairSocketBus(channel) as a:
+        b = PairSocketBus(channel, role="connect")
+        _wait_peer(a)
+        b.shutdown()
+        with pytest.raises(can.CanOperationError, match="left"):
+            a.recv(timeout=1.0)
+        with pytest.raises(can.CanOperationError, match="left"), a.batch():
+            a.send(_frame(1))
+
+
+def test_wait_for_peer_returns_when_the_peer_connects(channel: str) -> None:
+    with PairSocketBus(channel) as a:
+        assert not a.wait_for_peer(0.0)
+        with PairSocketBus(channel, role="connect"):
+            assert a.wait_for_peer(5.0) and a.peer_count == 1

@@ -36,3 +36,20 @@ def test_fd_frames_are_rejected() -> None:
 def test_control_record_kinds_are_distinct_from_frames() -> None:
     record = wire.unpack(wire.pack_control(wire.KIND_PEERS, 3))
     assert record.kind == wire.KIND_PEERS != wire.KIND_FRAME and record.arbitration_id == 3
+
+
+@pytest.mark.parametrize("remote", [False, True])
+@pytest.mark.parametrize("error", [False, True])
+@pytest.mark.parametrize("ext", [False, True])
+def test_a_received_message_has_every_attribute_of_the_keyword_construction(ext, error, remote) -> None:
+    """``message_from_fields`` calls ``can.Message`` positionally; this holds it to python-can's keywords."""
+    sent = can.Message(arbitration_id=0x123, is_extended_id=ext, is_remote_frame=remote, is_error_frame=error,
+                       dlc=5, data=None if remote else b"\x01\x02\x03\x04\x05")
+    fields = next(wire.RECORD.iter_unpack(wire.pack_frame(sent, 12.5)))
+    got = wire.message_from_fields(fields, "ch")
+    want = can.Message(timestamp=12.5, arbitration_id=0x123, is_extended_id=ext, is_remote_frame=remote,
+                       is_error_frame=error, channel="ch", dlc=5, data=None if remote else b"\x01\x02\x03\x04\x05",
+                       is_fd=False, is_rx=True, bitrate_switch=False, error_state_indicator=False, check=False)
+    for slot in (s for s in can.Message.__slots__ if s != "__weakref__"):
+        assert getattr(got, slot) == getattr(want, slot), slot
+        assert type(getattr(got, slot)) is type(getattr(want, slot)), slot
