@@ -224,7 +224,7 @@ class _Series:
     def __init__(self, strategies: Sequence[str], plots: Plots,
                  on_record: Callable[[list[RunRecord]], None]) -> None:
         self.order, self.plots, self.on_record = list(strategies), plots, on_record
-        self.finale_drawn = False
+        self.plotter_started = self.finale_drawn = False  # one plot worker at most
         self.workers = Workers()
         self.taken = multiprocessing.get_context("fork").Value("i", 0)  # next strategy to start
         self.results: dict[str, RunRecord] = {}
@@ -286,13 +286,13 @@ class _Series:
         """One timeline here; once every run is in, the rest (and the finale) shared with a plot worker."""
         if not self.undrawn:
             return
-        if len(self.results) + len(self.failed) == len(self.order):  # every run is in
+        if len(self.results) + len(self.failed) == len(self.order) and not self.plotter_started:  # all in
             finale = self.plots.finale if not self.failures else None
             share = [self.undrawn.pop() for _ in range((len(self.undrawn) - (finale is not None)) // 2)]
             if finale is not None or share:
                 records, draw = self.records(), self.plots.timeline
                 self.workers.start(_plotter, lambda: _draw_all(draw, share, finale, records), lane=False)
-                self.finale_drawn = finale is not None
+                self.plotter_started, self.finale_drawn = True, finale is not None
         self.plots.timeline(self.undrawn.popleft())
 
 

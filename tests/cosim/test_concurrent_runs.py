@@ -74,10 +74,12 @@ def _run(strategies: list[str], tmp_path: Path, records: list[RunRecord], keep_f
         (tmp_path / f"{record.strategy}.drawn").write_text("")
 
     def finale(every: list[RunRecord]) -> None:  # in the plot worker, beside the last timeline
-        (tmp_path / "finale.drawn").write_text(" ".join(r.strategy for r in every))
+        with open(tmp_path / "finale.drawn", "a") as handle:
+            handle.write(" ".join(r.strategy for r in every) + "\n")
 
     seen: list[list[str]] = []
-    drawn = run_concurrently(strategies, _job, records, Plots(lambda: None, draw, finale),
+    preload = lambda: time.sleep(0.5)  # noqa: E731 - as importing matplotlib: every run is in before a draw
+    drawn = run_concurrently(strategies, _job, records, Plots(preload, draw, finale),
                              lambda done: seen.append([r.strategy for r in done]), jobs=2, keep_frames=keep_frames)
     assert drawn == (tmp_path / "finale.drawn").exists()  # else the caller draws it
     return seen
@@ -89,8 +91,8 @@ def test_records_come_in_order_and_every_timeline_is_drawn(tmp_path):
     assert [r.strategy for r in records] == ["a", "b", "c", "d"] and seen[-1] == ["a", "b", "c", "d"]
     assert all(seen[i] == sorted(seen[i], key="abcd".index) for i in range(len(seen)))  # metrics.json in order
     assert sorted(p.stem for p in tmp_path.glob("*.drawn") if p.stem != "finale") == ["a", "b", "c", "d"]
-    if (tmp_path / "finale.drawn").exists():  # drawn by the plot worker when a timeline was left to draw
-        assert (tmp_path / "finale.drawn").read_text() == "a b c d"
+    if (tmp_path / "finale.drawn").exists():  # drawn by the plot worker when timelines were left to draw
+        assert (tmp_path / "finale.drawn").read_text() == "a b c d\n"
     assert records[0].frames == [] and records[0].rows == [(0.0,)]
     kept: list[RunRecord] = []
     _run(["a"], tmp_path, kept, keep_frames=True)
@@ -174,3 +176,25 @@ def test_a_process_with_other_threads_runs_one_after_the_other(plant_fmu3, tmp_p
         other.join()
     assert [r.strategy for r in records] == ["none", "tightening"]
     assert all(r.frames for r in records)  # kept: run here (a worker sends its record without them)
+
+
+def test_one_plot_worker_draws_the_finale_once(tmp_path):
+    """Two timelines left when the last run comes in: the plot worker is started once, not again for the last."""
+    delay_s = {"a": 0.0, "b": 0.05, "c": 0.1}
+
+    def job(strategy: str) -> RunRecord:
+        time.sleep(delay_s[strategy])
+        return RunRecord(strategy, RunMetrics(strategy))
+
+    def draw(record: RunRecord) -> None:  # slower than the runs: b and c are both in while a is drawn
+        time.sleep(0.3)
+        (tmp_path / f"{record.strategy}.drawn").write_text("")
+
+    def finale(every: list[RunRecord]) -> None:
+        with open(tmp_path / "finale.drawn", "a") as handle:
+            handle.write(" ".join(r.strategy for r in every) + "\n")
+
+    records: list[RunRecord] = []
+    assert run_concurrently(["a", "b", "c"], job, records, Plots(lambda: None, draw, finale), lambda done: None, jobs=2)
+    assert (tmp_path / "finale.drawn").read_text() == "a b c\n"
+    assert sorted(p.stem for p in tmp_path.glob("?.drawn")) == ["a", "b", "c"]
