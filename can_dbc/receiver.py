@@ -262,7 +262,16 @@ class Receiver:
                 f" (jump <= {MAX_COUNTER_JUMP}), got {counter}"
             )
         try:
-            signals = _decode(layout, int.from_bytes(data, "little"))
+            # _decode's loop written out (one call less per accepted frame, about 3 a cycle): a
+            # value out of range or enumeration falls back to _decode, which raises its precise error
+            payload, signals = int.from_bytes(data, "little"), {}
+            for sig, start, mask, sign_bit, raw_min, raw_max, scale, offset, is_integer, choices in layout.unpack_table:
+                raw = (payload >> start) & mask
+                if raw & sign_bit:
+                    raw -= mask + 1
+                if raw < raw_min or raw > raw_max or (choices and raw not in choices):
+                    _decode(layout, payload)
+                signals[sig] = raw if is_integer else raw * scale + offset
         except FrameError:
             raise
         except Exception as exc:  # noqa: BLE001 - any decode failure is a frame error
@@ -275,6 +284,15 @@ class Receiver:
         A repeated counter, a frame while resynchronising and a held protected frame
         return ``None`` too (no new data to use).
         """
+        # check()'s common case for a protected frame written out (hold it for its authenticator,
+        # nothing to return): one call less for about half the frames an ECU receives. With the
+        # decode written out in _check_known: a protected frame + its authenticator 4.06-4.17
+        # instead of 4.15-4.25 µs (4 alternating runs, min of 15 each)
+        if not (msg.is_extended_id or msg.is_error_frame or msg.is_remote_frame):
+            rx = self._by_id.get(msg.arbitration_id)
+            if rx is not None and rx.protected and rx.held is None:
+                rx.held = msg
+                return None
         try:
             frame = self.check(msg, t_s)
         except FrameError:

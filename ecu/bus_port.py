@@ -15,7 +15,7 @@ signal (``FAULT_SIGNALS``; bit k at DBC bit 50 + k).
 from __future__ import annotations
 
 import math
-from typing import Callable, Mapping
+from typing import Mapping
 
 import can
 
@@ -72,36 +72,30 @@ class InputLatch:
         self.object_range_rate_mps = 0.0
         self.object_lateral_m = 0.0
         self.rx_t_s = {name: NEVER_S for name in INPUT_MESSAGES}
-        self._handlers: dict[str, Callable[[dict], None]] = {
-            "WheelSpeeds": self._wheels,
-            "DriverInput": self._driver,
-            "ObjectTrack": self._object,
-        }
 
     def ingest(self, frame: Frame, t_s: float) -> bool:
         """Take a fresh, checked frame received at cycle time ``t_s``; False if not an input."""
-        handler = self._handlers.get(frame.name)
-        if handler is None:
+        # the three messages told apart inline, not through a dict of handler methods: one call
+        # less per input frame (about two a cycle) and no bound-method look-up: a WheelSpeeds frame
+        # 0.23 instead of 0.29-0.34 µs (timeit)
+        name, s = frame[0], frame[1]  # Frame.name, Frame.signals
+        if name == "WheelSpeeds":
+            self.wheel_speeds_mps = (
+                s["WheelSpeedFL"] / KMH_PER_MPS, s["WheelSpeedFR"] / KMH_PER_MPS,
+                s["WheelSpeedRL"] / KMH_PER_MPS, s["WheelSpeedRR"] / KMH_PER_MPS,
+            )
+        elif name == "DriverInput":
+            self.accel_pedal = s["AccelPedal"] / PERCENT
+            self.brake_pedal = s["BrakePedal"] / PERCENT
+        elif name == "ObjectTrack":
+            self.object_valid = bool(s["ObjectValid"])
+            self.object_range_m = s["ObjectRange"]
+            self.object_range_rate_mps = s["ObjectRangeRate"]
+            self.object_lateral_m = s["ObjectLateral"]
+        else:
             return False
-        handler(frame.signals)
-        self.rx_t_s[frame.name] = t_s
+        self.rx_t_s[name] = t_s
         return True
-
-    def _wheels(self, s: dict) -> None:
-        self.wheel_speeds_mps = (
-            s["WheelSpeedFL"] / KMH_PER_MPS, s["WheelSpeedFR"] / KMH_PER_MPS,
-            s["WheelSpeedRL"] / KMH_PER_MPS, s["WheelSpeedRR"] / KMH_PER_MPS,
-        )
-
-    def _driver(self, s: dict) -> None:
-        self.accel_pedal = s["AccelPedal"] / PERCENT
-        self.brake_pedal = s["BrakePedal"] / PERCENT
-
-    def _object(self, s: dict) -> None:
-        self.object_valid = bool(s["ObjectValid"])
-        self.object_range_m = s["ObjectRange"]
-        self.object_range_rate_mps = s["ObjectRangeRate"]
-        self.object_lateral_m = s["ObjectLateral"]
 
     def inputs(self, t_s: float, receiver: Receiver, node_flags: int = 0) -> CoreInputs:
         """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores and rate/sequence flags."""

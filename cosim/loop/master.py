@@ -129,18 +129,20 @@ class ClosedLoop:
         # bound once: next() of each message's E2E counter, called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
             CounterSequence().next for _ in range(3))
-        self.plant = open_plant(scenario.plant, fmu_path)
+        # the link before the plant: a spawned ECU (--ecu process) starts up while the FMU loads. Saves
+        # at most the FMU's load (8-12 ms measured here), within the noise of the ECU's ~0.17 s start-up
+        self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S, key)
+        try:
+            self.plant = open_plant(scenario.plant, fmu_path)
+        except BaseException:
+            self.link.close()  # stops a spawned ECU by its PID and leaves the bus
+            raise
         self._check_sample = finite_check(scenario.plant)  # NaN/Inf output: an error naming time and variable
         self.record.fmu_path, self.record.fmu_sha256 = str(fmu_path), self.plant.sha256
         if not self.plant.wheel_speeds_mapped:
             self.record.events.append(RunEvent(0.0, "warning", DERIVED_WHEEL_SPEEDS))
             log.warning("%s: %s", self.strategy, DERIVED_WHEEL_SPEEDS)
         self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
-        try:
-            self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S, key)
-        except BaseException:
-            self.plant.close()
-            raise
         self._timer: PhaseTimer | None = instrument(self) if profile else None
 
     # -- one cycle ------------------------------------------------------------
@@ -195,12 +197,22 @@ class ClosedLoop:
         return nxt
 
     def _log_cycle(self, t_s: float, out: _Outgoing, received: list, applied: Actuation) -> None:
-        # LoggedFrame's tuple built directly, without its generated __new__ (0.11 instead of 0.20 µs a frame)
-        self.record.frames.extend([_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data)))
-                                   for frames in (out.frames, received) for msg in frames])
-        sample, pedals = out.sample, out.pedals
-        self.record.rows.append((t_s, sample.position_m, sample.speed_mps, sample.accel_mps2, applied.throttle,
-                                 applied.brake, self.gateway.mode, out.gap_m, pedals.accel_pct, pedals.brake_pct))
+        # LoggedFrame's tuple built directly, without its generated __new__ (0.11 instead of 0.20 µs a frame);
+        # appended in two plain loops, not a nested comprehension + extend (1.89 instead of 2.08 µs, 7 frames)
+        append = self.record.frames.append
+        for msg in out.frames:
+            append(_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data))))
+        for msg in received:
+            append(_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data))))
+        sample, pedals, gap_m = out.sample, out.pedals, out.gap_m
+        speed_mps = sample.speed_mps
+        self.record.rows.append((t_s, sample.position_m, speed_mps, sample.accel_mps2, applied.throttle,
+                                 applied.brake, self.gateway.mode, gap_m, pedals.accel_pct, pedals.brake_pct))
+        # the metrics' running extremes here, where the row is built (once a cycle, after the ECU's
+        # frames), not in a call of their own that read the row back (0.39 instead of 0.44-0.52 µs, timeit)
+        m = self.record.metrics
+        m.min_gap_m = gap_m if m.min_gap_m is None else min(m.min_gap_m, gap_m)
+        m.max_speed_mps = max(m.max_speed_mps, speed_mps)
 
     def _advance(self, k: int, applied: Actuation, gap_m: float, speed_mps: float) -> tuple[int, bool]:
         """Advance the plant one ECU cycle; returns the new ``k`` and whether it collided."""
@@ -243,7 +255,6 @@ class ClosedLoop:
                 t_s = k * self.h_s
                 out = self._cycle_out(t_s, cycle)
                 nxt = self._cycle_in(t_s, cycle, out, applied)
-                self._track(out.gap_m)
                 if self._ended(t_s, out.sample.speed_mps):
                     break
                 k, collided = self._advance(k, applied, out.gap_m, out.sample.speed_mps)
@@ -272,11 +283,6 @@ class ClosedLoop:
         self.record.error = message
         self.record.events.append(RunEvent(t_s, kind, message))
         log.error("%s: %s", self.strategy, message)
-
-    def _track(self, gap_m: float) -> None:
-        m = self.record.metrics
-        m.min_gap_m = gap_m if m.min_gap_m is None else min(m.min_gap_m, gap_m)
-        m.max_speed_mps = max(m.max_speed_mps, self.record.rows[-1][2])
 
     def _ended(self, t_s: float, speed_mps: float) -> bool:
         """An ``[end]`` condition has been met (recorded as an ``end`` event)."""
