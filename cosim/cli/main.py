@@ -16,7 +16,13 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import os
 import sys
+
+# numpy's OpenBLAS starts a thread per core on import (50 ms of CPU, and a thread in every
+# process crd forks); crd's arrays are small, so one thread does. Set before numpy is imported;
+# a value in the environment wins.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 #: subcommand name -> module that implements it (imported on demand).
 SUBCOMMANDS: dict[str, str] = {
@@ -41,13 +47,24 @@ def _version() -> str:
         return "crd (version unknown: not installed)"
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: the installed version, looked up only when asked (reading the metadata costs 10 ms)."""
+
+    def __init__(self, option_strings: list[str], dest: str = argparse.SUPPRESS, **kwargs) -> None:
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS, help="show the version and exit")
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        print(_version())
+        parser.exit()
+
+
 def _build_parser(argv: list[str]) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="crd",
         description="Colliding reciprocal dance: FMI co-simulation and CAN active-safety ECU.",
     )
     parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
-    parser.add_argument("--version", action="version", version=_version())
+    parser.add_argument("--version", action=_VersionAction)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     wanted = next((a for a in argv if a in SUBCOMMANDS), None)

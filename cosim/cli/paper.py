@@ -1,6 +1,8 @@
 """``crd paper [--scenario F] [--out DIR]``: the paper's experiment in one command.
 
-Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``,
+Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``
+(side by side, one per core, when the ECU runs in process: :mod:`cosim.loop.concurrent`;
+the same files and table as one after the other),
 writes every run's outputs, ``speed_profiles.png`` and ``report.md``, prints a
 table and each claim of the paper with PASS or FAIL
 (:mod:`cosim.results.paper_claims`), and exits 3 if any claim fails, 4 if a
@@ -47,7 +49,7 @@ def _do_paper(args: argparse.Namespace) -> int:
     strategies = list(REQUIRED) + (["adaptive"] if args.with_adaptive else [])
     print(f"crd paper: {path.name}, strategies {', '.join(strategies)} -> {args.out}", file=sys.stderr)
     records = run_strategies(scenario, strategies, args.out, progress=progress_printer,
-                              ecu=ecu_options(args), judge=verdicts)
+                              ecu=ecu_options(args), judge=verdicts, concurrent=True)
     end_progress()
     print(results_table(records))
     for line in timing_lines(records):

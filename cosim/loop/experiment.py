@@ -13,17 +13,20 @@ run, after each, and on every way out, including SIGINT/SIGTERM.
 
 from __future__ import annotations
 
+import functools
 import logging
 import signal
+import threading
 from pathlib import Path
 from typing import Callable, Sequence
 
 from ..link.ecu_link import EcuOptions
 from ..errors import PlantError, RunInterrupted
+from .concurrent import Plots, cores, run_concurrently
 from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
-from ..results.plots import speed_profiles, timeline
+from ..results.plots import preload_matplotlib, speed_profiles, timeline
 from ..results.report import Verdict, fmt, write_report
 from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
@@ -91,34 +94,32 @@ def check_run(scenario: Scenario, record: RunRecord) -> list[str]:
 
 
 def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
-                   can_logs: Sequence[str] = (),
-                   progress: Callable[[str], Progress] | None = None,
-                   ecu: EcuOptions | None = None, judge: Judge | None = None) -> list[RunRecord]:
+                   can_logs: Sequence[str] = (), progress: Callable[[str], Progress] | None = None,
+                   ecu: EcuOptions | None = None, judge: Judge | None = None, concurrent: bool = False
+                   ) -> list[RunRecord]:
     """Run each strategy; with ``out_dir``, write metrics, logs, time series, config, plots and ``report.md``.
 
     With ``out_dir``: the directory is checked before anything runs, the files are written
     as the run goes, and ``metrics.json`` on every way out (module docstring). A run ended
-    by SIGINT/SIGTERM stops the series: its results are written, then
+    by SIGINT/SIGTERM stops the series (concurrent: every run): its results are written, then
     :class:`~cosim.errors.RunInterrupted` is raised on.
     ``can_logs``: CAN log files besides ``can.blf`` (checked before any run);
     ``ecu`` says where the ECU runs (default: in process; see :mod:`cosim.link.ecu_link`);
-    ``judge`` gives the report's verdicts (default: the scenario's ``[checks]``).
+    ``judge`` gives the report's verdicts (default: the scenario's ``[checks]``);
+    ``concurrent``: side by side in forked processes (:mod:`cosim.loop.concurrent`) when
+    there are several runs, each ECU in process and more than one core.
     """
     logs, fmu_path = _preflight(scenario, strategies, out_dir, can_logs)
     records: list[RunRecord] = []
-    status, error = "running", None
+    status, error, profiles_drawn = "running", None, False
     try:
         if out_dir is not None:
             out_dir.mkdir(parents=True, exist_ok=True)
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
-        for strategy in strategies:
-            record = _run_one(scenario, fmu_path, strategy, out_dir, logs, progress, ecu)
-            records.append(record)
-            if record.interrupted:
-                break
-            if out_dir is not None:
-                write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
-        status = "interrupted" if records and records[-1].interrupted else \
+        run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
+        concurrent = concurrent and _can_run_concurrently(strategies, ecu)
+        profiles_drawn = (_run_concurrently if concurrent else _run_in_turn)(scenario, strategies, run, records, out_dir)
+        status = "interrupted" if any(r.interrupted for r in records) else \
             "error" if any(r.error for r in records) else "complete"
     except KeyboardInterrupt as exc:
         status, error = "interrupted", str(exc)
@@ -129,10 +130,54 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     finally:
         if out_dir is not None:
             _write_summary(out_dir, scenario, records, judge or (lambda recs: check_verdicts(scenario, recs)),
-                           status, error)
+                           status, error, profiles_drawn)
     if status == "interrupted":
-        raise _interrupted(records[-1], out_dir)
+        raise _interrupted(next(r for r in records if r.interrupted), out_dir)
     return records
+
+
+def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
+                 records: list[RunRecord], out_dir: Path | None) -> bool:
+    """One run after the other; stops after a run ended by a signal. False: no speed profiles drawn yet."""
+    for strategy in strategies:
+        record = run(strategy)
+        records.append(record)
+        if record.interrupted:
+            break
+        if out_dir is not None:
+            write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), "running")
+    return False
+
+
+def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> bool:
+    """Several runs, more than one core, each run's ECU in its own process's memory, and no other
+    thread here (a fork copies only the calling thread: a lock another one holds would stay held)."""
+    in_process = ecu is None or (ecu.mode == "inprocess" and not ecu.realtime)
+    return len(strategies) > 1 and cores() > 1 and in_process and threading.active_count() == 1
+
+
+def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
+                      records: list[RunRecord], out_dir: Path | None) -> bool:
+    """The runs in forked workers (:func:`cosim.loop.concurrent.run_concurrently`), ``metrics.json`` after
+    each; whether ``speed_profiles.png`` has been drawn (by the plot worker, beside the last timeline)."""
+
+    def on_record(done: list[RunRecord]) -> None:
+        if out_dir is not None:
+            write_metrics(out_dir / "metrics.json", done, provenance(scenario, done), "running")
+
+    plots = Plots(preload_matplotlib, lambda r: timeline(out_dir / r.strategy / "timeline.png", r),
+                  lambda recs: _speed_profiles(out_dir, scenario, recs)) if out_dir is not None else \
+        Plots(lambda: None, lambda r: None)
+    return run_concurrently(strategies, lambda strategy: run(strategy, plot=False), records, plots, on_record,
+                            jobs=cores(), keep_frames=out_dir is None)
+
+
+def _speed_profiles(out_dir: Path, scenario: Scenario, records: Sequence[RunRecord]) -> None:
+    """``speed_profiles.png``: every run's speed against position (claim 4's split marked for the paper's runs)."""
+    obj = scenario.object
+    paper = set(paper_claims.REQUIRED) <= {r.strategy for r in records}
+    speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None,
+                   split_m=paper_claims.SPLIT_POSITION_M if paper else None)
 
 
 def _preflight(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
@@ -155,8 +200,8 @@ def _interrupted(record: RunRecord, out_dir: Path | None) -> RunInterrupted:
 
 
 def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | None, logs: Sequence[str],
-             progress: Callable[[str], Progress] | None, ecu: EcuOptions | None) -> RunRecord:
-    """One strategy's run, its files streamed under ``out_dir/<strategy>/`` as it goes."""
+             progress: Callable[[str], Progress] | None, ecu: EcuOptions | None, plot: bool = True) -> RunRecord:
+    """One strategy's run, its files streamed under ``out_dir/<strategy>/`` as it goes (``plot``: and its timeline)."""
     show = progress(strategy) if progress else None
     stream = RunStream(out_dir / strategy, logs, scenario.scenario.start_datetime) if out_dir is not None else None
     loop: ClosedLoop | None = None
@@ -177,33 +222,33 @@ def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | 
         show(record.metrics.sim_time_s, record.metrics.sim_time_s)  # final line
     if out_dir is not None:
         write_events(out_dir / strategy / "events.json", record)
-        timeline(out_dir / strategy / "timeline.png", record)
+        if plot:
+            timeline(out_dir / strategy / "timeline.png", record)
     return record
 
 
 def _write_summary(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, status: str,
-                   error: str | None) -> None:
+                   error: str | None, profiles_drawn: bool = False) -> None:
     """``metrics.json`` first (the one file every way out must leave), then the config, plots and report."""
     prov = provenance(scenario, records)
     write_metrics(out_dir / "metrics.json", records, prov, status, error)
     if not records:
         return
     try:
-        _write_report(out_dir, scenario, records, judge, prov)
+        _write_report(out_dir, scenario, records, judge, prov, profiles_drawn)
     except Exception as exc:  # noqa: BLE001 - on the way out of a failed run, never mask its error
         if status == "complete":
             raise
         log.warning("could not write the summary files after the run stopped (%s): %s", status, exc)
 
 
-def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, prov: dict) -> None:
-    """``config.resolved.toml``, ``speed_profiles.png`` and ``report.md`` (with the judge's verdicts)."""
+def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, prov: dict,
+                  profiles_drawn: bool = False) -> None:
+    """``config.resolved.toml``, ``speed_profiles.png`` (unless drawn already) and ``report.md``."""
     resolved = out_dir / "config.resolved.toml"
     write_resolved_config(resolved, scenario, ecu_config(scenario, records[0].strategy), prov)
-    obj = scenario.object
-    paper = set(paper_claims.REQUIRED) <= {r.strategy for r in records}
-    speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None,
-                   split_m=paper_claims.SPLIT_POSITION_M if paper else None)
+    if not profiles_drawn:
+        _speed_profiles(out_dir, scenario, records)
     plots = [("speed against position", "speed_profiles.png")]
     plots += [(f"{r.strategy}: timeline", f"{r.strategy}/timeline.png") for r in records]
     try:

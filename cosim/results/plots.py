@@ -40,6 +40,11 @@ def _pyplot():
     return plt
 
 
+def preload_matplotlib() -> None:
+    """Import matplotlib now (0.3 s), e.g. before forking workers that plot (:mod:`cosim.loop.concurrent`)."""
+    _pyplot()
+
+
 @dataclass(frozen=True)
 class Collision:
     """Where and when a run hit the object: time (s), position (m), speed (m/s)."""
