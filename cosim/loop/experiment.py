@@ -119,8 +119,7 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
         run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
         concurrent = concurrent and _can_run_concurrently(strategies, ecu)
         profiles_drawn = (_run_concurrently if concurrent else _run_in_turn)(scenario, strategies, run, records, out_dir)
-        status = "interrupted" if any(r.interrupted for r in records) else \
-            "error" if any(r.error for r in records) else "complete"
+        status = _series_status(records)
     except KeyboardInterrupt as exc:
         status, error = "interrupted", str(exc)
         raise
@@ -134,6 +133,13 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     if status == "interrupted":
         raise _interrupted(next(r for r in records if r.interrupted), out_dir)
     return records
+
+
+def _series_status(records: Sequence[RunRecord]) -> str:
+    """``interrupted`` if a run was, else ``error`` if a run failed, else ``complete``."""
+    if any(r.interrupted for r in records):
+        return "interrupted"
+    return "error" if any(r.error for r in records) else "complete"
 
 
 def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
