@@ -1,10 +1,12 @@
-"""Helpers shared by the tests that start child processes: is a PID gone, and building a pythonfmu FMU."""
+"""Helpers shared by the tests that start child processes: is a PID gone, building a pythonfmu FMU,
+and waiting for a child's streamed time series."""
 
 from __future__ import annotations
 
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 
@@ -26,3 +28,26 @@ def build_pythonfmu(script: Path, out_dir: Path, name: str) -> Path:
     subprocess.run([sys.executable, "-m", "pythonfmu", "build", "-f", str(script), "-d", str(out_dir)],
                    check=True, capture_output=True)
     return out_dir / f"{name}.fmu"
+
+
+def last_time_s(csv_path: Path) -> float:
+    """The time (s) of the last complete row of a streamed ``timeseries.csv``; -1.0 before there is one."""
+    try:
+        lines = csv_path.read_text().splitlines()
+    except FileNotFoundError:
+        return -1.0
+    for line in reversed(lines[1:]):
+        try:
+            return float(line.split(",")[0])
+        except ValueError:
+            continue  # a line being written
+    return -1.0
+
+
+def wait_for(condition, timeout_s: float, what: str, proc: subprocess.Popen) -> None:
+    """Poll ``condition`` every 50 ms while ``proc`` runs; fails naming ``what`` after ``timeout_s``."""
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        assert proc.poll() is None, f"the child ended early with {proc.returncode}: {proc.stderr.read()}"
+        assert time.monotonic() < deadline, f"{what} within {timeout_s} s: nothing streamed"
+        time.sleep(0.05)

@@ -28,6 +28,7 @@ from cosim.link.ecu_link import EcuOptions
 from cosim.loop.concurrent import Plots, cores, run_concurrently
 from cosim.loop.experiment import run_strategies
 from cosim.results.run_record import LoggedFrame, RunMetrics, RunRecord
+from tests.os_processes import last_time_s, wait_for
 from cosim.scenarios.loader import load_scenario
 
 SHORT = Path(__file__).parent / "sweep_data" / "short_cyclist.toml"
@@ -122,14 +123,6 @@ enabled = false
 """
 
 
-def _sim_time_s(csv_path: Path) -> float:
-    try:
-        last = csv_path.read_text().splitlines()[-2:]  # the last line may be half written
-        return float(last[0].split(",")[0])
-    except (FileNotFoundError, IndexError, ValueError):
-        return -1.0
-
-
 @pytest.mark.wallclock
 @pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_a_signal_ends_every_running_run_with_its_results(plant_fmu3, tmp_path, sig, code):
@@ -140,11 +133,8 @@ def test_a_signal_ends_every_running_run_with_its_results(plant_fmu3, tmp_path, 
     proc = subprocess.Popen([sys.executable, "-m", "cosim.cli.main", "paper", "--scenario", str(scenario),
                              "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
-        deadline = time.monotonic() + 60.0
-        while min(_sim_time_s(out / s / "timeseries.csv") for s in started) < 3.0:
-            assert proc.poll() is None, proc.stderr.read()
-            assert time.monotonic() < deadline, f"{started} streaming 3 s of simulated time within 60 s"
-            time.sleep(0.05)
+        wait_for(lambda: min(last_time_s(out / s / "timeseries.csv") for s in started) >= 3.0, 60.0,
+                 f"{started} streaming 3 s of simulated time", proc)
         proc.send_signal(sig)  # to crd paper alone: it passes the signal on to its workers
         _, err = proc.communicate(timeout=60.0)
     finally:

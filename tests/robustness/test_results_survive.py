@@ -15,13 +15,12 @@ import json
 import signal
 import subprocess
 import sys
-import time
-from pathlib import Path
 
 import can
 import pytest
 
 from cosim.cli.main import main
+from tests.os_processes import last_time_s, wait_for
 
 LONG = """
 [scenario]
@@ -30,27 +29,6 @@ duration_s = 3600.0
 [ecu]
 strategy = "tightening"
 """
-
-
-def _last_time_s(csv_path: Path) -> float:
-    try:
-        lines = csv_path.read_text().splitlines()
-    except FileNotFoundError:
-        return -1.0
-    for line in reversed(lines[1:]):
-        try:
-            return float(line.split(",")[0])
-        except ValueError:
-            continue  # a line being written
-    return -1.0
-
-
-def _wait_for(condition, timeout_s: float, what: str, proc: subprocess.Popen) -> None:
-    deadline = time.monotonic() + timeout_s
-    while not condition():
-        assert proc.poll() is None, f"crd run ended early with {proc.returncode}: {proc.stderr.read()}"
-        assert time.monotonic() < deadline, f"{what} within {timeout_s} s: nothing streamed"
-        time.sleep(0.05)
 
 
 @pytest.mark.wallclock
@@ -63,7 +41,7 @@ def test_a_signal_mid_run_keeps_the_results_so_far(plant_fmu3, tmp_path, sig, co
     proc = subprocess.Popen([sys.executable, "-m", "cosim.cli.main", "run", str(scenario), "--out", str(out)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
-        _wait_for(lambda: _last_time_s(series) >= 3.0, 60.0, "3 s of simulated time on disk", proc)
+        wait_for(lambda: last_time_s(series) >= 3.0, 60.0, "3 s of simulated time on disk", proc)
         running = json.loads((out / "metrics.json").read_text())
         assert running["status"] == "running" and running["runs"] == []
         proc.send_signal(sig)
@@ -78,7 +56,7 @@ def test_a_signal_mid_run_keeps_the_results_so_far(plant_fmu3, tmp_path, sig, co
     run = metrics["runs"][0]
     assert metrics["status"] == "interrupted" and run["status"] == "interrupted"
     assert run["interrupted_by"] == sig.name and 3.0 <= run["sim_time_s"] < 3600.0
-    t_last = _last_time_s(series)
+    t_last = last_time_s(series)
     assert run["sim_time_s"] - 0.011 <= t_last <= run["sim_time_s"]  # every cycle up to the stop
     frames = list(can.BLFReader(str(out / "tightening" / "can.blf")))
     # the log is complete up to the stop and closed (stamps: the scenario's start time + simulated time)
