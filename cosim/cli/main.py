@@ -95,12 +95,34 @@ def _hide_unused_asammdf(argv: list[str]) -> None:
         sys.modules.setdefault("asammdf", None)
 
 
+def _start_ahead(argv: list[str]):
+    """Work started before the subcommand's modules are imported: ``crd paper``'s plot worker
+    (:func:`cosim.cli.paper.plot_worker_ahead`), or None."""
+    wanted = next((a for a in argv if a in SUBCOMMANDS), None)
+    if wanted != "paper":
+        return None
+    from .paper import plot_worker_ahead
+
+    return plot_worker_ahead(argv)
+
+
 def main(argv: list[str] | None = None) -> int:
     if argv is None:
         _hide_unused_asammdf(sys.argv[1:])
     argv = list(sys.argv[1:] if argv is None else argv)
+    plot_worker = _start_ahead(argv)
+    try:
+        return _main(argv, plot_worker)
+    finally:
+        if plot_worker is not None:
+            plot_worker.stop()  # unused (an error before the runs, or they ran one after the other)
+
+
+def _main(argv: list[str], plot_worker) -> int:
     parser = _build_parser(argv)
     args = parser.parse_args(argv)
+    if plot_worker is not None:
+        args.plot_worker = plot_worker
     logging.basicConfig(
         level=logging.DEBUG if args.debug else logging.WARNING,
         format="%(levelname)s %(name)s: %(message)s",

@@ -19,20 +19,18 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..loop.experiment import run_strategies
-from ..results.paper_claims import REQUIRED, evaluate, speed_trace_dance, verdicts
-from ..scenarios.loader import load_scenario
-from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
-from .progress import end_progress, progress_printer, results_table
-from .signals import interruptible
-from ..results.events import EXIT_FAULT_EVENT, unexpected_faults
-from .scenarios import find_scenario
+# Only the standard library here: ``crd`` imports this module before it forks the plot worker
+# (plot_worker_ahead); the rest of crd is imported by add_subparser and _do_paper, meanwhile.
+from ..results.plot_worker import PlotWorker, cores
 
 PAPER_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper_cyclist.toml"
 EXIT_CLAIM_FAILED = 3
 
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
+    from .ecu_options import add_ecu_arguments
+    from .signals import interruptible
+
     p = subparsers.add_parser("paper", help="reproduce the paper's three speed profiles and check its claims")
     p.add_argument("--scenario", default=PAPER_SCENARIO,
                    help="scenario file or bundled name (default: paper_cyclist.toml)")
@@ -40,16 +38,42 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--with-adaptive", action="store_true",
                    help="also run our extension 'adaptive' (shown beside the three; the claims concern the three)")
     add_ecu_arguments(p, realtime=False)
-    p.set_defaults(func=interruptible(_do_paper))
+    p.set_defaults(func=interruptible(_do_paper), plot_worker=None)
+
+
+def plot_worker_ahead(argv: list[str]) -> PlotWorker | None:
+    """For ``crd paper`` whose runs will go side by side (the ECU in process, two cores or more, one
+    thread): a plot worker forked now, before crd's imports, so that it imports matplotlib meanwhile
+    (:mod:`cosim.results.plot_worker`). None for ``--help`` or an ECU out of process (a guess from
+    ``argv``: the runs start a plot worker of their own if this one is missing)."""
+    import threading
+
+    early = argparse.ArgumentParser(add_help=False)
+    early.add_argument("-h", "--help", action="store_true")
+    early.add_argument("--ecu", default="inprocess")
+    known, _ = early.parse_known_args(argv)
+    if known.help or known.ecu != "inprocess" or cores() < 2 or threading.active_count() > 1:
+        return None
+    import numpy  # noqa: F401 - first: crd and matplotlib both need it, and one copy of its pages then serves both
+
+    return PlotWorker.start()
 
 
 def _do_paper(args: argparse.Namespace) -> int:
+    from ..loop.experiment import run_strategies
+    from ..results.events import EXIT_FAULT_EVENT, unexpected_faults
+    from ..results.paper_claims import REQUIRED, evaluate, speed_trace_dance, verdicts
+    from ..scenarios.loader import load_scenario
+    from .ecu_options import ecu_options, timing_lines
+    from .progress import end_progress, progress_printer, results_table
+    from .scenarios import find_scenario
+
     path = find_scenario(args.scenario)
     scenario = load_scenario(path)
     strategies = list(REQUIRED) + (["adaptive"] if args.with_adaptive else [])
     print(f"crd paper: {path.name}, strategies {', '.join(strategies)} -> {args.out}", file=sys.stderr)
     records = run_strategies(scenario, strategies, args.out, progress=progress_printer,
-                              ecu=ecu_options(args), judge=verdicts, concurrent=True)
+                              ecu=ecu_options(args), judge=verdicts, concurrent=True, plot_worker=args.plot_worker)
     end_progress()
     print(results_table(records))
     for line in timing_lines(records):

@@ -16,17 +16,20 @@ ones a sequential run writes and the records are collected in the order of
 * **at most ``jobs`` runs at once** (the number of cores): ``jobs`` run
   workers each take the next strategy not yet taken (a counter in shared
   memory, so no run waits for the busy parent), simulate it, write its
-  streamed files and send its record; the parent meanwhile imports matplotlib
-  (``preload``) and draws each run's ``timeline.png`` as its record arrives. Plotting stays out of the run workers on purpose: a forked
-  worker that plots writes to matplotlib's pages and holds a second copy of
-  them (about 25 MB each), which would take ``crd paper`` over its memory goal;
-* **the last plots in two processes**: when every run is in and two or more
-  timelines are still to draw, a forked plot worker draws half of them while
-  the parent draws the rest (and then the speed profiles);
+  streamed files and send its record;
+* **the plots in a plot worker** (:class:`cosim.results.plot_worker.PlotWorker`,
+  started ahead by ``crd paper`` or here beside the run workers): it imports
+  matplotlib while the first runs go, draws each run's ``timeline.png`` as its
+  record arrives and, when every run is in, the figure of every run beside the
+  last timeline. The run workers only simulate: a forked worker that plots
+  writes to matplotlib's pages and holds a second copy of them (about 25 MB
+  each), and the parent stays free to collect records and pass on signals;
 * **signals**: each worker has its own process group, so a terminal's Ctrl-C
   reaches the parent only; the parent passes the SIGINT/SIGTERM it gets to
   every run worker, once. Each ends its run with the results so far
   (:mod:`cosim.cli.signals`) and reports it as interrupted; no new run starts;
+  the plot worker draws what it was given before (no timeline of an
+  interrupted run, no finale: the caller draws that one);
 * **failures**: a run that fails still reports, and the other runs go on (so
   which runs have results does not depend on timing). An exception in a run is
   sent back and raised in the parent after the other runs are collected (their
@@ -47,59 +50,36 @@ import multiprocessing
 import os
 import pickle
 import tempfile
-from collections import deque
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from typing import Callable, Sequence
 
-from ..errors import interrupt_signal
+from ..results.plot_worker import Drawing, PlotWorker, Failure, attempt, cores, send
 from ..results.run_record import RunRecord
+
+__all__ = ["Job", "Plots", "cores", "run_concurrently"]
 
 #: one run: strategy -> its record
 Job = Callable[[str], RunRecord]
-#: the key of the plot worker's report (not a strategy name: those are identifiers)
-PLOTS = "timelines (plot worker)"
 
 
-class _Failure:
-    """What a worker sends instead of a result: the exception (or its text, when it cannot be pickled)."""
+@dataclass(frozen=True)
+class Plots:
+    """What the plot worker draws (a :class:`~cosim.results.plot_worker.Drawing`): ``preload()`` imports
+    matplotlib, ``timeline(record)`` draws one run's timeline, ``finale(records)`` the figure of every run
+    (drawn when every run has a record). Closures do: a worker forked here inherits them."""
 
-    def __init__(self, exc: BaseException) -> None:
-        self.exc: BaseException = exc
-
-
-def cores() -> int:
-    """The cores this process may run on (its CPU affinity where the OS tells it, else all of them)."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        return os.cpu_count() or 1
-
-
-def _attempt(task: Callable[[], object]) -> object:
-    try:
-        return task()
-    except Exception as exc:  # noqa: BLE001 - every failure goes back to the parent
-        return _Failure(exc)
-
-
-def _send(conn: Connection, key: str, message: object) -> None:
-    """Send (key, message); an exception that cannot be pickled goes as its text."""
-    try:
-        conn.send((key, message))
-    except BrokenPipeError:
-        raise
-    except Exception as exc:  # noqa: BLE001 - e.g. pickling
-        text = message.exc if isinstance(message, _Failure) else exc
-        conn.send((key, _Failure(RuntimeError(f"{type(text).__name__}: {text}"))))
+    preload: Callable[[], None]
+    timeline: Callable[[RunRecord], None]
+    finale: Callable[[list[RunRecord]], None] | None = None
 
 
 def _lane(conn: Connection, job: Job, strategies: Sequence[str], taken, spool: str, keep_frames: bool) -> None:
     """A run worker: take the next strategy not yet taken, run it, send its record; until none is left.
 
     The record goes through a file in ``spool`` and the pipe carries its name: a record is
-    larger than the pipe's buffer, and the next run should not wait until the parent (busy
-    importing matplotlib or drawing) reads it; nor is a record sent before a crash lost.
+    larger than the pipe's buffer, and the next run should not wait until the parent reads it;
+    nor is a record sent before a crash lost. The plot worker reads the same file.
     """
     os.setpgid(0, 0)  # signals come from the parent only (module docstring)
     try:
@@ -108,16 +88,16 @@ def _lane(conn: Connection, job: Job, strategies: Sequence[str], taken, spool: s
                 i, taken.value = taken.value, taken.value + 1
             if i >= len(strategies):
                 return
-            result = _attempt(lambda: _run(job, strategies[i], keep_frames))
+            result = attempt(lambda: _run(job, strategies[i], keep_frames))
             if isinstance(result, RunRecord):
                 path = os.path.join(spool, f"{i}.pickle")
                 with open(path, "wb") as handle:
                     pickle.dump(result, handle, protocol=pickle.HIGHEST_PROTOCOL)
-                _send(conn, strategies[i], _Spooled(path))
+                send(conn, (strategies[i], _Spooled(path)))
                 if result.interrupted:
                     return
             else:
-                _send(conn, strategies[i], result)
+                send(conn, (strategies[i], result))
     except (KeyboardInterrupt, BrokenPipeError):
         return  # a signal outside a run's loop (no more runs), or the parent has gone
     finally:
@@ -125,28 +105,14 @@ def _lane(conn: Connection, job: Job, strategies: Sequence[str], taken, spool: s
 
 
 class _Spooled:
-    """A record pickled to ``path`` (read and removed by the parent)."""
+    """A record pickled to ``path`` (removed with the spool directory, once the plot worker is done)."""
 
     def __init__(self, path: str) -> None:
         self.path = path
 
     def load(self) -> RunRecord:
-        try:
-            with open(self.path, "rb") as handle:
-                return pickle.load(handle)
-        finally:
-            os.unlink(self.path)
-
-
-def _plotter(conn: Connection, task: Callable[[], object]) -> None:
-    """The plot worker: draw, then say so (or send the failure)."""
-    os.setpgid(0, 0)
-    try:
-        _send(conn, PLOTS, _attempt(task))
-    except BrokenPipeError:
-        pass
-    finally:
-        conn.close()
+        with open(self.path, "rb") as handle:
+            return pickle.load(handle)
 
 
 def _run(job: Job, strategy: str, keep_frames: bool) -> RunRecord:
@@ -157,43 +123,42 @@ def _run(job: Job, strategy: str, keep_frames: bool) -> RunRecord:
 
 
 class Workers:
-    """Forked workers and their pipes; each message is (strategy or :data:`PLOTS`, payload)."""
+    """Forked run workers and their pipes; each message is (strategy, payload)."""
 
     def __init__(self) -> None:
         self._context = multiprocessing.get_context("fork")
-        #: pipe -> (process, is it a run worker)
-        self._running: dict[Connection, tuple[multiprocessing.process.BaseProcess, bool]] = {}
+        self._running: dict[Connection, multiprocessing.process.BaseProcess] = {}
         #: exit statuses of the workers that ended other than normally (a crash, a kill)
         self.crashes: list[int | None] = []
 
-    def count(self, lanes: bool = True) -> int:
-        return sum(1 for _, lane in self._running.values() if lane or not lanes)
+    def count(self) -> int:
+        return len(self._running)
 
-    def start(self, target: Callable[..., None], *args: object, lane: bool) -> None:
+    def start(self, target: Callable[..., None], *args: object) -> None:
         """Fork a worker ``target(pipe, *args)``."""
-        receive, send = self._context.Pipe(duplex=False)
+        receive, send_end = self._context.Pipe(duplex=False)
         gc.freeze()  # the worker inherits a frozen heap (module docstring) ...
         try:
-            process = self._context.Process(target=target, args=(send, *args), daemon=True)
+            process = self._context.Process(target=target, args=(send_end, *args), daemon=True)
             process.start()
         finally:
             gc.unfreeze()  # ... and the parent keeps collecting as before
-            send.close()
+            send_end.close()
         try:
             os.setpgid(process.pid, process.pid)  # as the worker does: whichever comes first
         except OSError:
             pass  # the worker has set it already, or has ended
-        self._running[receive] = (process, lane)
+        self._running[receive] = process
 
-    def messages(self, block: bool) -> list[tuple[str, object]]:
-        """Messages from the workers (``block``: wait for one, or for a worker to end)."""
+    def messages(self) -> list[tuple[str, object]]:
+        """Messages from the workers; waits for one, or for a worker to end."""
         found = []
-        for conn in wait(list(self._running), timeout=None if block else 0.0):
+        for conn in wait(list(self._running)):
             try:
                 found.append(conn.recv())
                 continue
             except EOFError:
-                process, _ = self._running.pop(conn)
+                process = self._running.pop(conn)
             conn.close()
             process.join()
             if process.exitcode != 0:
@@ -201,17 +166,16 @@ class Workers:
         return found
 
     def forward(self, signum: int) -> None:
-        """Pass ``signum`` to every run worker (the plot worker finishes its plots)."""
-        for process, lane in self._running.values():
-            if lane:
-                try:
-                    os.kill(process.pid, signum)
-                except ProcessLookupError:
-                    pass
+        """Pass ``signum`` to every run worker."""
+        for process in self._running.values():
+            try:
+                os.kill(process.pid, signum)
+            except ProcessLookupError:
+                pass
 
     def stop(self) -> None:
         """End every worker still running (on the way out of an error in the parent)."""
-        for conn, (process, _) in list(self._running.items()):
+        for conn, process in list(self._running.items()):
             conn.close()  # first: a worker blocked on sending to us gets EPIPE instead of waiting
             process.terminate()
             process.join()
@@ -221,14 +185,13 @@ class Workers:
 class _Series:
     """The parent's side of :func:`run_concurrently`."""
 
-    def __init__(self, strategies: Sequence[str], plots: Plots,
+    def __init__(self, strategies: Sequence[str], painter: PlotWorker | None,
                  on_record: Callable[[list[RunRecord]], None]) -> None:
-        self.order, self.plots, self.on_record = list(strategies), plots, on_record
-        self.plotter_started = self.finale_drawn = False  # one plot worker at most
+        self.order, self.painter, self.on_record = list(strategies), painter, on_record
         self.workers = Workers()
         self.taken = multiprocessing.get_context("fork").Value("i", 0)  # next strategy to start
         self.results: dict[str, RunRecord] = {}
-        self.undrawn: deque[RunRecord] = deque()
+        self.paths: dict[str, str] = {}  # strategy -> its pickled record (read by the plot worker)
         self.failures: list[BaseException] = []
         self.failed: set[str] = set()
         self.interrupt: KeyboardInterrupt | None = None
@@ -238,7 +201,7 @@ class _Series:
 
     def start(self, job: Job, jobs: int, spool: str, keep_frames: bool) -> None:
         for _ in range(min(max(1, jobs), len(self.order))):
-            self.workers.start(_lane, job, self.order, self.taken, spool, keep_frames, lane=True)
+            self.workers.start(_lane, job, self.order, self.taken, spool, keep_frames)
 
     def unreported(self) -> list[BaseException]:
         """An error for each run started but never reported by a worker that crashed."""
@@ -254,12 +217,11 @@ class _Series:
             self.taken.value = len(self.order)
 
     def loop(self) -> None:
-        """Collect records, draw the timelines, until every worker has ended and every timeline is drawn."""
-        while self.workers.count(lanes=False) or self.undrawn:
+        """Collect the records, each passed on to the plot worker, until every run worker has ended."""
+        while self.workers.count():
             try:
-                for key, payload in self.workers.messages(block=not self.undrawn):
+                for key, payload in self.workers.messages():
                     self._take(key, payload)
-                self._draw_next()
             except KeyboardInterrupt as exc:
                 self.interrupted(exc)
 
@@ -269,73 +231,71 @@ class _Series:
             raise exc
         self.interrupt = exc
         self.no_new_runs()
-        self.undrawn.clear()
+        from ..errors import interrupt_signal  # here: cosim.errors imports can_dbc (this module is imported early)
+
         self.workers.forward(interrupt_signal(exc))
 
     def _take(self, key: str, payload: object) -> None:
-        if isinstance(payload, _Failure):
+        if isinstance(payload, Failure):
             self.failures.append(payload.exc)
             self.failed.add(key)
         elif isinstance(payload, _Spooled):
-            payload = self.results[key] = payload.load()
-            if self.interrupt is None:
-                self.undrawn.append(payload)
+            self.results[key], self.paths[key] = payload.load(), payload.path
+            if self.painter is not None and self.interrupt is None:
+                self.painter.timeline(payload.path)
             self.on_record(self.records())
 
-    def _draw_next(self) -> None:
-        """One timeline here; once every run is in, the rest (and the finale) shared with a plot worker."""
-        if not self.undrawn:
-            return
-        if len(self.results) + len(self.failed) == len(self.order) and not self.plotter_started:  # all in
-            finale = self.plots.finale if not self.failures else None
-            share = [self.undrawn.pop() for _ in range((len(self.undrawn) - (finale is not None)) // 2)]
-            if finale is not None or share:
-                records, draw = self.records(), self.plots.timeline
-                self.workers.start(_plotter, lambda: _draw_all(draw, share, finale, records), lane=False)
-                self.plotter_started, self.finale_drawn = True, finale is not None
-        self.plots.timeline(self.undrawn.popleft())
+    def finale(self, drawing: Drawing) -> bool:
+        """Ask for the figure of every run when every run is in and none failed; whether it was asked for."""
+        complete = len(self.results) == len(self.order) and not self.failures and not self.workers.crashes
+        if self.painter is None or drawing.finale is None or not complete or self.interrupt is not None:
+            return False
+        self.painter.finale([self.paths[s] for s in self.order])
+        return True
+
+    def finish_plots(self) -> None:
+        """Wait for the plot worker (an interrupt meanwhile is passed on; a second one is raised)."""
+        self.painter.finish()
+        while True:
+            try:
+                self.failures += self.painter.failures()
+                return
+            except KeyboardInterrupt as exc:
+                self.interrupted(exc)
 
 
-def _draw_all(draw: Callable[[RunRecord], None], records: Sequence[RunRecord],
-              finale: Callable[[list[RunRecord]], None] | None, every: list[RunRecord]) -> None:
-    for record in records:
-        draw(record)
-    if finale is not None:
-        finale(every)
-
-
-@dataclass(frozen=True)
-class Plots:
-    """What the parent and its plot worker draw: ``preload()`` imports matplotlib, ``timeline(record)``
-    draws one run's timeline, ``finale(records)`` the figure of every run (drawn by the plot worker
-    beside the last timeline, when every run has a record)."""
-
-    preload: Callable[[], None]
-    timeline: Callable[[RunRecord], None]
-    finale: Callable[[list[RunRecord]], None] | None = None
-
-
-def run_concurrently(strategies: Sequence[str], job: Job, records: list[RunRecord], plots: Plots,
-                     on_record: Callable[[list[RunRecord]], None], jobs: int, keep_frames: bool = False) -> bool:
+def run_concurrently(strategies: Sequence[str], job: Job, records: list[RunRecord], plots: Drawing | None,
+                     on_record: Callable[[list[RunRecord]], None], jobs: int, keep_frames: bool = False,
+                     plot_worker: PlotWorker | None = None) -> bool:
     """Run ``strategies``, at most ``jobs`` at once; ``records`` gets their records in that order.
 
-    ``plots.preload()`` while the first runs go; each run's timeline as its record arrives
-    (:class:`Plots`); ``on_record(records so far, in order)`` after each run (``metrics.json``).
+    ``plots`` (None: no plots) is drawn by ``plot_worker`` (started ahead; ``plots`` is then pickled
+    to it) or by one forked here: each run's timeline as its record arrives, the finale when every
+    run is in (:class:`Plots`); the plot worker is stopped on every way out.
+    ``on_record(records so far, in order)`` after each run (``metrics.json``).
     ``records`` is filled on every way out; a failure (a run's or a plot's) is raised
     after every run is collected, and an interrupt that reached no run is raised on.
     Returns whether ``plots.finale`` was drawn.
     """
-    series = _Series(strategies, plots, on_record)
     spool = tempfile.TemporaryDirectory(prefix="crd-runs-")
+    series = _Series(strategies, None, on_record)
+    finale = False
     try:
         try:
             series.start(job, jobs, spool.name, keep_frames)
-            plots.preload()
+            if plots is not None:  # after the run workers: they go first
+                series.painter = plot_worker or PlotWorker.start(plots)
+                series.painter.bind(plots)
         except KeyboardInterrupt as exc:
             series.interrupted(exc)
         series.loop()
+        if series.painter is not None:
+            finale = series.finale(plots)
+            series.finish_plots()
     finally:
         series.workers.stop()
+        for painter in {series.painter, plot_worker} - {None}:
+            painter.stop()
         spool.cleanup()
         records[:] = series.records()
     failures = series.failures + series.unreported()
@@ -343,4 +303,4 @@ def run_concurrently(strategies: Sequence[str], job: Job, records: list[RunRecor
         raise failures[0]
     if series.interrupt is not None and not any(r.interrupted for r in records):
         raise series.interrupt
-    return series.finale_drawn
+    return finale

@@ -22,11 +22,12 @@ from typing import Callable, Sequence
 
 from ..link.ecu_link import EcuOptions
 from ..errors import PlantError, RunInterrupted
-from .concurrent import Plots, cores, run_concurrently
+from .concurrent import cores, run_concurrently
 from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
-from ..results.plots import preload_matplotlib, speed_profiles, timeline
+from ..results.plot_worker import PlotWorker
+from ..results.plots import SeriesPlots, timeline
 from ..results.report import Verdict, fmt, write_report
 from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
@@ -95,8 +96,8 @@ def check_run(scenario: Scenario, record: RunRecord) -> list[str]:
 
 def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
                    can_logs: Sequence[str] = (), progress: Callable[[str], Progress] | None = None,
-                   ecu: EcuOptions | None = None, judge: Judge | None = None, concurrent: bool = False
-                   ) -> list[RunRecord]:
+                   ecu: EcuOptions | None = None, judge: Judge | None = None, concurrent: bool = False,
+                   plot_worker: PlotWorker | None = None) -> list[RunRecord]:
     """Run each strategy; with ``out_dir``, write metrics, logs, time series, config, plots and ``report.md``.
 
     With ``out_dir``: the directory is checked before anything runs, the files are written
@@ -107,7 +108,7 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     ``ecu`` says where the ECU runs (default: in process; see :mod:`cosim.link.ecu_link`);
     ``judge`` gives the report's verdicts (default: the scenario's ``[checks]``);
     ``concurrent``: side by side in forked processes (:mod:`cosim.loop.concurrent`) when
-    there are several runs, each ECU in process and more than one core.
+    there are several runs, each ECU in process and more than one core (``plot_worker``: one started ahead).
     """
     logs, fmu_path = _preflight(scenario, strategies, out_dir, can_logs)
     records: list[RunRecord] = []
@@ -117,8 +118,7 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
             out_dir.mkdir(parents=True, exist_ok=True)
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
         run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
-        concurrent = concurrent and _can_run_concurrently(strategies, ecu)
-        profiles_drawn = (_run_concurrently if concurrent else _run_in_turn)(scenario, strategies, run, records, out_dir)
+        profiles_drawn = _series(concurrent, strategies, ecu, plot_worker)(scenario, strategies, run, records, out_dir)
         status = _series_status(records)
     except KeyboardInterrupt as exc:
         status, error = "interrupted", str(exc)
@@ -155,6 +155,15 @@ def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..
     return False
 
 
+def _series(concurrent: bool, strategies: Sequence[str], ecu: EcuOptions | None,
+            plot_worker: PlotWorker | None) -> Callable[..., bool]:
+    """Side by side (:func:`_run_concurrently`, drawn by ``plot_worker`` if one was started ahead) when
+    ``concurrent`` and :func:`_can_run_concurrently`, else one after the other (:func:`_run_in_turn`)."""
+    if concurrent and _can_run_concurrently(strategies, ecu):
+        return functools.partial(_run_concurrently, plot_worker=plot_worker)
+    return _run_in_turn
+
+
 def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> bool:
     """Several runs, more than one core, each run's ECU in its own process's memory, and no other
     thread here (a fork copies only the calling thread: a lock another one holds would stay held)."""
@@ -163,7 +172,7 @@ def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> 
 
 
 def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
-                      records: list[RunRecord], out_dir: Path | None) -> bool:
+                      records: list[RunRecord], out_dir: Path | None, plot_worker: PlotWorker | None) -> bool:
     """The runs in forked workers (:func:`cosim.loop.concurrent.run_concurrently`), ``metrics.json`` after
     each; whether ``speed_profiles.png`` has been drawn (by the plot worker, beside the last timeline)."""
 
@@ -171,19 +180,22 @@ def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callab
         if out_dir is not None:
             write_metrics(out_dir / "metrics.json", done, provenance(scenario, done), "running")
 
-    plots = Plots(preload_matplotlib, lambda r: timeline(out_dir / r.strategy / "timeline.png", r),
-                  lambda recs: _speed_profiles(out_dir, scenario, recs)) if out_dir is not None else \
-        Plots(lambda: None, lambda r: None)
+    plots = _series_plots(out_dir, scenario, strategies) if out_dir is not None else None
     return run_concurrently(strategies, lambda strategy: run(strategy, plot=False), records, plots, on_record,
-                            jobs=cores(), keep_frames=out_dir is None)
+                            jobs=cores(), keep_frames=out_dir is None, plot_worker=plot_worker)
+
+
+def _series_plots(out_dir: Path, scenario: Scenario, strategies: Sequence[str]) -> SeriesPlots:
+    """Every run's timeline and speed against position (claim 4's split marked for the paper's runs)."""
+    obj = scenario.object
+    paper = set(paper_claims.REQUIRED) <= set(strategies)
+    return SeriesPlots(out_dir, obj.position_m if obj.enabled else None,
+                       paper_claims.SPLIT_POSITION_M if paper else None)
 
 
 def _speed_profiles(out_dir: Path, scenario: Scenario, records: Sequence[RunRecord]) -> None:
     """``speed_profiles.png``: every run's speed against position (claim 4's split marked for the paper's runs)."""
-    obj = scenario.object
-    paper = set(paper_claims.REQUIRED) <= {r.strategy for r in records}
-    speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None,
-                   split_m=paper_claims.SPLIT_POSITION_M if paper else None)
+    _series_plots(out_dir, scenario, [r.strategy for r in records]).finale(records)
 
 
 def _preflight(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,

@@ -23,13 +23,10 @@ from __future__ import annotations
 from collections import Counter
 from typing import Iterable, Sequence
 
-from ..scenarios.config import EXPECTABLE_EVENTS
 from .run_record import RunEvent, RunRecord
 
 KEEP_FIRST = 10
 KEEP_EVERY_S = 10.0
-#: a run with one of these (not expected by ``[checks] expect_events``) exits with EXIT_FAULT_EVENT
-FAULT_EVENTS = EXPECTABLE_EVENTS
 EXIT_FAULT_EVENT = 4
 SUPPRESSED = "events_suppressed"
 
@@ -133,13 +130,25 @@ def event_counts(record: RunRecord) -> dict[str, int]:
     return dict(Counter(e.kind for e in record.events))
 
 
+def __getattr__(name: str) -> tuple[str, ...]:
+    """``FAULT_EVENTS``: the kinds a run with one of them (not expected by ``[checks] expect_events``)
+    exits with EXIT_FAULT_EVENT for; the scenario's ``EXPECTABLE_EVENTS``, read on first use: a plot
+    worker imports this module to unpickle a record's :class:`EventLog`, and the scenario config
+    would bring can_dbc with it (about 14 MB)."""
+    if name == "FAULT_EVENTS":
+        from ..scenarios.config import EXPECTABLE_EVENTS
+
+        return EXPECTABLE_EVENTS
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 def unexpected_faults(records: Iterable[RunRecord], expected: Iterable[str] = ()) -> list[str]:
     """One line per run and fault kind (:data:`FAULT_EVENTS`) that ``expected`` does not list: its first event."""
-    allowed, out = set(expected), []
+    allowed, out, faults = set(expected), [], __getattr__("FAULT_EVENTS")
     for record in records:
         seen: set[str] = set()
         for e in record.events:
-            if e.kind in FAULT_EVENTS and e.kind not in allowed and e.kind not in seen:
+            if e.kind in faults and e.kind not in allowed and e.kind not in seen:
                 seen.add(e.kind)
                 out.append(f"{record.strategy}: t={e.t_s:.3f} s {e.kind}: {e.detail}")
     return out

@@ -14,16 +14,13 @@ Legends sit outside the axes, so they cover no data.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Sequence
-
-from can_dbc import MODE_NAMES
 
 from .run_record import RunRecord
 
 STRATEGY_COLORS = {"none": "C0", "conservative": "C1", "tightening": "C2", "adaptive": "C4"}  # in every plot
-_MODE_LEVEL = {name: value for value, name in MODE_NAMES.items()} | {"NO_OVERRIDE": -1}  # the DBC's VAL_
 ZOOM_SPAN_M = 75.0  # the zoomed panel: this far before the object (150..225 m in the paper)
 _COLLISION = dict(color="crimson", marker="X", markersize=10, linestyle="none", zorder=5)
 # Fixed margins (fractions of the figure) leave the right-hand strip to the legends; a layout
@@ -38,6 +35,13 @@ def _pyplot():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def mode_levels() -> dict[str, int]:
+    """ECU mode name -> its level in a timeline's mode panel: the DBC's ``VAL_`` of the mode, NO_OVERRIDE -1."""
+    from can_dbc import MODE_NAMES  # here, not above: a plot worker would hold can_dbc's 14 MB for this table
+
+    return {name: value for value, name in MODE_NAMES.items()} | {"NO_OVERRIDE": -1}
 
 
 def preload_matplotlib() -> None:
@@ -162,14 +166,38 @@ def active_end_s(record: RunRecord) -> float:
     return rows[0][0]
 
 
-def timeline(path: Path, record: RunRecord) -> None:
+def timeline(path: Path, record: RunRecord, levels: dict[str, int] | None = None) -> None:
     """``timeline.png`` of one run (:func:`timeline_figure`)."""
-    _save(timeline_figure(record), path)
+    _save(timeline_figure(record, levels), path)
 
 
-def timeline_figure(record: RunRecord):
-    """Speed, gap, pedals/commands and ECU mode against time for one run, trimmed to its active part."""
+@dataclass(frozen=True)
+class SeriesPlots:
+    """The figures of a series of runs under ``out_dir``: each run's ``<strategy>/timeline.png`` and
+    ``speed_profiles.png`` (a :class:`~cosim.results.plot_worker.Drawing`; plain data, so it can be
+    sent to a plot worker started before it existed)."""
+
+    out_dir: Path
+    object_position_m: float | None
+    split_m: float | None = None
+    #: :func:`mode_levels`, read where the series starts (the plot worker then needs no can_dbc)
+    levels: tuple[tuple[str, int], ...] = field(default_factory=lambda: tuple(mode_levels().items()))
+
+    def preload(self) -> None:
+        preload_matplotlib()
+
+    def timeline(self, record: RunRecord) -> None:
+        timeline(self.out_dir / record.strategy / "timeline.png", record, dict(self.levels))
+
+    def finale(self, records: Sequence[RunRecord]) -> None:
+        speed_profiles(self.out_dir / "speed_profiles.png", records, self.object_position_m, split_m=self.split_m)
+
+
+def timeline_figure(record: RunRecord, levels: dict[str, int] | None = None):
+    """Speed, gap, pedals/commands and ECU mode against time for one run, trimmed to its active part
+    (``levels``: :func:`mode_levels`, read here when not given)."""
     plt = _pyplot()
+    levels = mode_levels() if levels is None else levels
     t = record.column("time_s")
     end_s = t[-1] if t else 0.0
     shown_s = min(end_s, active_end_s(record) + 2.0)
@@ -186,8 +214,8 @@ def timeline_figure(record: RunRecord):
     axes[2].plot(t, record.column("brake"), label="brake applied")
     axes[2].plot(t, [p / 100 for p in record.column("accel_pedal_pct")], ":", label="accelerator pedal")
     axes[2].set_ylabel("command (0..1)")
-    axes[3].step(t, [_MODE_LEVEL.get(m, -2) for m in record.column("ecu_mode")], where="post", label="ECU mode")
-    axes[3].set_yticks(list(_MODE_LEVEL.values()), list(_MODE_LEVEL))
+    axes[3].step(t, [levels.get(m, -2) for m in record.column("ecu_mode")], where="post", label="ECU mode")
+    axes[3].set_yticks(list(levels.values()), list(levels))
     hit = collision_point(record)
     if hit is not None:
         for ax in axes:

@@ -27,6 +27,7 @@ from can_dbc import generate_key, write_key_file
 from cosim.link.ecu_link import EcuOptions
 from cosim.loop.concurrent import Plots, cores, run_concurrently
 from cosim.loop.experiment import run_strategies
+from cosim.results.plot_worker import PlotWorker
 from cosim.results.run_record import LoggedFrame, RunMetrics, RunRecord
 from tests.os_processes import last_time_s, wait_for
 from cosim.scenarios.loader import load_scenario
@@ -47,19 +48,26 @@ def test_concurrent_runs_write_the_same_files_and_records(plant_fmu3, tmp_path):
     ecu = EcuOptions(key_file=str(write_key_file(tmp_path / "run.key", generate_key())))  # same SecOC tags
     one_by_one = run_strategies(sc, STRATEGIES, tmp_path / "seq", ecu=ecu)
     side_by_side = run_strategies(sc, STRATEGIES, tmp_path / "con", ecu=ecu, concurrent=True)
-    assert [r.strategy for r in side_by_side] == STRATEGIES
-    for a, b in zip(one_by_one, side_by_side):
-        assert dataclasses.replace(a.metrics, wall_time_s=0.0) == dataclasses.replace(b.metrics, wall_time_s=0.0)
-        assert (a.rows, a.events, a.error) == (b.rows, b.events, b.error) and len(a.rows) > 600
-        assert a.frames and b.frames == []  # on disk in can.blf; not sent back
-    seq, con = _files(tmp_path / "seq"), _files(tmp_path / "con")
-    assert sorted(seq) == sorted(con) and "tightening/timeline.png" in con and "speed_profiles.png" in con
-    assert [name for name in seq if seq[name] != con[name]] == []
-    metrics = [json.loads((tmp_path / d / "metrics.json").read_text()) for d in ("seq", "con")]
+    ahead = PlotWorker.start()  # as crd paper's: forked before the series, its drawing pickled to it later
+    try:
+        drawn_ahead = run_strategies(sc, STRATEGIES, tmp_path / "ahead", ecu=ecu, concurrent=True, plot_worker=ahead)
+    finally:
+        ahead.stop()
+    for series in (side_by_side, drawn_ahead):
+        assert [r.strategy for r in series] == STRATEGIES
+        for a, b in zip(one_by_one, series):
+            assert dataclasses.replace(a.metrics, wall_time_s=0.0) == dataclasses.replace(b.metrics, wall_time_s=0.0)
+            assert (a.rows, a.events, a.error) == (b.rows, b.events, b.error) and len(a.rows) > 600
+            assert a.frames and b.frames == []  # on disk in can.blf; not sent back
+    seq = _files(tmp_path / "seq")
+    for con in (_files(tmp_path / "con"), _files(tmp_path / "ahead")):
+        assert sorted(seq) == sorted(con) and "tightening/timeline.png" in con and "speed_profiles.png" in con
+        assert [name for name in seq if seq[name] != con[name]] == []
+    metrics = [json.loads((tmp_path / d / "metrics.json").read_text()) for d in ("seq", "con", "ahead")]
     for m in metrics:
         for run in m["runs"]:
             run.pop("wall_time_s")
-    assert metrics[0] == metrics[1] and metrics[1]["status"] == "complete"
+    assert metrics[0] == metrics[1] == metrics[2] and metrics[1]["status"] == "complete"
 
 
 def _job(strategy: str) -> RunRecord:

@@ -1,0 +1,291 @@
+"""A forked process that draws a series' figures while the runs go on (``crd paper``).
+
+Importing matplotlib takes about 0.35 s of CPU and each figure about 0.16 s; the
+runs take about 1 s. :class:`PlotWorker` moves all of it off the critical path:
+
+* **started ahead**: ``crd`` forks it before it imports the rest of crd (0.25 s), so
+  matplotlib is imported on the second core meanwhile (:func:`cosim.cli.paper.plot_worker_ahead`);
+  or :func:`cosim.loop.concurrent.run_concurrently` forks it beside the run workers;
+* **told what to draw** (:meth:`PlotWorker.bind`): a :class:`Drawing` (pickled, when the
+  worker was started before it existed), then each run's record as it comes in
+  (:meth:`timeline`: the path of the record's pickle, so the parent never waits on a
+  busy pipe) and, when every run is in, all of them (:meth:`finale`);
+* **two figures at once**: once every run is in (the finale is asked for), with two or
+  more figures waiting (the last run's timeline and the finale) it forks a helper for
+  one of them and draws the other itself: the helper shares matplotlib's pages with it
+  (copy on write) instead of importing them. Not before: while runs go on, both cores
+  are busy anyway, and a helper would hold a second copy of the pages it draws with;
+* **its own process group**, so a terminal's Ctrl-C reaches only ``crd``, which
+  decides; SIGTERM (:meth:`stop`) ends it at once; it also ends when ``crd`` has gone
+  (its pipe closes);
+* **failures** (an exception in a draw) are collected and returned by :meth:`PlotWorker.failures`;
+  a worker that dies without a word is an error naming its exit status.
+
+Everything here is standard library: ``crd`` imports this module before anything else.
+"""
+
+from __future__ import annotations
+
+import gc
+import multiprocessing
+import os
+import pickle
+import signal
+from collections import deque
+from contextlib import contextmanager
+from multiprocessing.connection import Connection, wait
+from typing import Callable, Iterator, Protocol, Sequence
+
+
+class Drawing(Protocol):
+    """What the worker draws: ``preload()`` (import matplotlib), each run's ``timeline(record)``, and the
+    ``finale(records)`` of every run (None: no such figure)."""
+
+    preload: Callable[[], None]
+    timeline: Callable[[object], None]
+    finale: Callable[[list], None] | None
+
+
+class Failure:
+    """What a draw returns instead of None: the exception (or its text, when it cannot be pickled)."""
+
+    def __init__(self, exc: BaseException) -> None:
+        self.exc: BaseException = exc
+
+
+def cores() -> int:
+    """The cores this process may run on (its CPU affinity where the OS tells it, else all of them)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def attempt(task: Callable[[], object]) -> object:
+    """``task()``, or a :class:`Failure` holding what it raised."""
+    try:
+        return task()
+    except Exception as exc:  # noqa: BLE001 - every failure goes back to the parent
+        return Failure(exc)
+
+
+def send(conn: Connection, message: object) -> None:
+    """Send ``message``; a failure whose exception cannot be pickled goes as its text."""
+    try:
+        conn.send(message)
+    except BrokenPipeError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - e.g. pickling
+        text = message.exc if isinstance(message, Failure) else exc
+        conn.send(Failure(RuntimeError(f"{type(text).__name__}: {text}")))
+
+
+def import_matplotlib() -> None:
+    """The default ``preload`` of a worker started ahead (imports crd's plotting module and matplotlib)."""
+    from .plots import preload_matplotlib
+
+    preload_matplotlib()
+
+
+def load_record(path: str):
+    """A record pickled by a run worker (:mod:`cosim.loop.concurrent`)."""
+    with open(path, "rb") as handle:
+        return pickle.load(handle)
+
+
+class PlotWorker:
+    """The parent's handle on the plotting process (module docstring). :meth:`stop` is idempotent."""
+
+    def __init__(self, process: multiprocessing.process.BaseProcess, conn: Connection) -> None:
+        self._process, self._conn = process, conn
+        self.bound = False
+
+    @property
+    def pid(self) -> int:
+        return self._process.pid
+
+    @classmethod
+    def start(cls, drawing: Drawing | None = None, preload: Callable[[], None] | None = None) -> PlotWorker:
+        """Fork the worker; it runs ``preload()`` at once (default: ``drawing.preload``, or
+        :func:`import_matplotlib` without a drawing)."""
+        if preload is None:
+            preload = drawing.preload if drawing is not None else import_matplotlib
+        context = multiprocessing.get_context("fork")
+        theirs, ours = context.Pipe(duplex=True)
+        gc.freeze()  # the worker's collector never walks (so never copies) the pages it inherits
+        try:
+            process = context.Process(target=_serve, args=(theirs, drawing, preload), daemon=True)
+            process.start()
+        finally:
+            gc.unfreeze()
+            theirs.close()
+        try:
+            os.setpgid(process.pid, process.pid)  # as the worker does: whichever comes first
+        except OSError:
+            pass  # it has set it already, or has ended
+        worker = cls(process, ours)
+        worker.bound = drawing is not None
+        return worker
+
+    def bind(self, drawing: Drawing) -> None:
+        """What to draw, for a worker started without it (``drawing`` is pickled: no closures)."""
+        if not self.bound:
+            self._conn.send(("drawing", drawing))
+            self.bound = True
+
+    def timeline(self, record_path: str) -> None:
+        """Draw the timeline of the record pickled at ``record_path``."""
+        self._conn.send(("timeline", record_path))
+
+    def finale(self, record_paths: Sequence[str]) -> None:
+        """Draw the figure of every run (records pickled at ``record_paths``, in order)."""
+        self._conn.send(("finale", list(record_paths)))
+
+    def finish(self) -> None:
+        """Say that nothing more comes: the worker draws what is waiting, replies and ends (:meth:`failures`)."""
+        try:
+            self._conn.send(("finish", None))
+        except (BrokenPipeError, ConnectionResetError):
+            pass  # it has ended: failures() says so
+
+    def failures(self) -> list[BaseException]:
+        """Wait for the worker's reply to :meth:`finish`: the draws' failures. A signal meanwhile raises
+        here with nothing read (call again to go on waiting)."""
+        wait([self._conn])
+        with _signals_held():  # the reply is read whole or not at all
+            try:
+                failures = [f.exc for f in self._conn.recv()]
+            except (EOFError, ConnectionResetError):
+                self._process.join()
+                failures = [RuntimeError(f"the plot worker ended (exit status {self._process.exitcode})"
+                                         " before drawing every figure")]
+        self._conn.close()
+        self._process.join()  # it ends once it has replied
+        return failures
+
+    def stop(self) -> None:
+        """End the worker now (if it still runs) and wait for it."""
+        if self._conn.closed:
+            return
+        self._conn.close()
+        if self._process.is_alive():
+            self._process.terminate()
+        self._process.join()
+
+
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """SIGINT and SIGTERM held back within the block (delivered at its end)."""
+    held = {signal.SIGINT, signal.SIGTERM}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+def _serve(conn: Connection, drawing: Drawing | None, preload: Callable[[], None]) -> None:
+    """The worker: preload, then draw what the parent asks, until it says ``finish`` (or has gone)."""
+    os.setpgid(0, 0)
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, signal.SIG_DFL)  # not crd's handlers: the parent decides, and stop() is final
+    preload()
+    queue = _Queue(drawing)
+    try:
+        while True:
+            for kind, payload in _messages(conn, block=not queue.waiting):
+                if kind == "drawing":
+                    queue.drawing = payload
+                elif kind == "finish":
+                    conn.send(queue.drain())
+                    return
+                else:
+                    queue.waiting.append((kind, payload))
+                    queue.all_in = queue.all_in or kind == "finale"
+            queue.draw_next()
+    except (EOFError, BrokenPipeError):
+        return  # the parent has gone
+    finally:
+        conn.close()
+
+
+def _messages(conn: Connection, block: bool) -> list[tuple[str, object]]:
+    """The messages waiting (``block``: at least one)."""
+    found = [conn.recv()] if block else []
+    while conn.poll():
+        found.append(conn.recv())
+    return found
+
+
+class _Queue:
+    """The figures asked for and not yet drawn; a forked helper draws one when two or more wait."""
+
+    def __init__(self, drawing: Drawing | None) -> None:
+        self.drawing = drawing
+        self.waiting: deque[tuple[str, object]] = deque()
+        self.failures: list[Failure] = []
+        self.all_in = False  # every run is in: a helper may draw beside this process
+        self._records: dict[str, object] = {}  # path -> record, loaded once (the finale uses them all)
+        self._helper: tuple[int, Connection] | None = None
+
+    def draw_next(self) -> None:
+        if not self.waiting:
+            return
+        if self._helper is not None and self._helper[1].poll():
+            self._join_helper()  # done: another may start
+        if self.all_in and len(self.waiting) > 1 and self._helper is None:
+            self._helper = self._fork(self.waiting.pop())
+        self._draw(self.waiting.popleft())
+
+    def drain(self) -> list[Failure]:
+        """Draw everything still waiting, wait for the helper; the failures."""
+        self.all_in = True
+        while self.waiting:
+            self.draw_next()
+        self._join_helper()
+        return self.failures
+
+    def _draw(self, item: tuple[str, object]) -> None:
+        result = attempt(lambda: self._call(*item))
+        if isinstance(result, Failure):
+            self.failures.append(result)
+
+    def _call(self, kind: str, payload) -> None:
+        if kind == "timeline":
+            self.drawing.timeline(self._record(payload))
+        elif self.drawing.finale is not None:
+            self.drawing.finale([self._record(p) for p in payload])
+
+    def _record(self, path: str):
+        if path not in self._records:
+            self._records[path] = load_record(path)
+        return self._records[path]
+
+    def _fork(self, item: tuple[str, object]) -> tuple[int, Connection]:
+        """A helper (a plain fork: this process is a daemon) that draws ``item`` and sends the outcome."""
+        reader, writer = multiprocessing.Pipe(duplex=False)
+        gc.freeze()
+        pid = os.fork()
+        if pid == 0:  # the helper
+            try:
+                reader.close()
+                send(writer, attempt(lambda: self._call(*item)))
+            finally:
+                os._exit(0)  # no clean-up of what it inherited
+        gc.unfreeze()
+        writer.close()
+        return pid, reader
+
+    def _join_helper(self) -> None:
+        if self._helper is None:
+            return
+        pid, conn = self._helper
+        self._helper = None
+        try:
+            result = conn.recv()
+        except EOFError:
+            result = Failure(RuntimeError("the plot helper ended without reporting"))
+        conn.close()
+        os.waitpid(pid, 0)
+        if isinstance(result, Failure):
+            self.failures.append(result)
