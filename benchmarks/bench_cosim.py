@@ -1,6 +1,7 @@
 """Co-simulation figures of issue 10, side by side in one run (medians; the machine is shared).
 
-Run: ``python benchmarks/bench_cosim.py [--repeat N] [--phases] [--skip-paper]``.
+Run: ``python benchmarks/bench_cosim.py [--repeat N] [--phases] [--skip-paper | --paper-only]
+[--paper-baseline DIR] [--idle-wait S]``.
 
 Alternating, ``--repeat`` rounds (default 5), in this one process:
 
@@ -25,7 +26,12 @@ Alternating, ``--repeat`` rounds (default 5), in this one process:
   ``RUSAGE_CHILDREN``'s ``ru_maxrss``: a child forked from this benchmark
   counts the benchmark's own pages before it execs ``crd`` (a 200 MB parent
   gives ``python -c pass`` a 211 MB "peak"), and this benchmark holds about
-  140 MB after its closed-loop runs.
+  140 MB after its closed-loop runs. ``--paper-baseline DIR``: the same from
+  an older source tree, alternating with ours in every round (A/B);
+  ``--idle-wait S``: before each ``crd paper``, wait up to S s until the
+  machine is idle (under 10 % of its cores busy over half a second: on a
+  shared machine a neighbour's burst otherwise lands in some rounds and not in
+  others); the busy fraction seen before each run is printed.
 
 Every figure is the median over the rounds; the spread (min..max) is printed
 too, with the load average, so a noisy run shows itself. Each × real time is
@@ -181,9 +187,9 @@ def _add(figures: dict, key: tuple, value: float) -> None:
     figures.setdefault(key, []).append(value)
 
 
-def one_round(sc, fmu: Path, figures: dict, paper: bool, loops: bool = True, baseline: Path | None = None) -> None:
+def one_round(sc, fmu: Path, figures: dict) -> None:
     """One alternating round: every strategy on every bus, then the plant alone over the same time."""
-    for strategy in STRATEGIES if loops else ():
+    for strategy in STRATEGIES:
         for bus in BUSES:
             sim, wall, cpu = closed_loop_s(sc, fmu, strategy, bus)
             _add(figures, (strategy, bus), sim / wall)
@@ -193,8 +199,35 @@ def one_round(sc, fmu: Path, figures: dict, paper: bool, loops: bool = True, bas
                 _add(figures, (strategy, "ratio"), wall / alone_wall)
                 _add(figures, (strategy, "ratio", "cpu"), cpu / alone_cpu)
                 _add(figures, (strategy, "alone"), sim / alone_wall)
+
+
+def machine_busy(period_s: float = 0.5) -> float:
+    """The fraction of all cores busy over ``period_s`` (``/proc/stat``; between rounds: other processes)."""
+    def sample() -> tuple[int, int]:
+        with open("/proc/stat") as handle:
+            ticks = [int(x) for x in handle.readline().split()[1:]]
+        return sum(ticks), ticks[3] + ticks[4]  # total, idle + iowait
+
+    (total0, idle0), _, (total1, idle1) = sample(), time.sleep(period_s), sample()
+    return 1.0 - (idle1 - idle0) / max(1, total1 - total0)
+
+
+def wait_idle(limit_s: float, busy_below: float = 0.1) -> float:
+    """Wait (up to ``limit_s``) until the machine is idle (less than ``busy_below`` of its cores busy
+    over half a second); the last busy fraction seen."""
+    deadline = time.monotonic() + limit_s
+    busy = machine_busy()
+    while busy >= busy_below and time.monotonic() < deadline:
+        busy = machine_busy()
+    return busy
+
+
+def paper_round(figures: dict, baseline: Path | None, idle_wait_s: float) -> None:
+    """``crd paper`` (and the baseline's), each after waiting up to ``idle_wait_s`` for an idle machine."""
     children = [("paper", None)] + ([("baseline", baseline)] if baseline is not None else [])
-    for name, source in children if paper else []:
+    for name, source in children:
+        if idle_wait_s > 0:
+            _add(figures, ("busy",), wait_idle(idle_wait_s))
         wall, cpu, code = crd_paper(source)
         if code != 0:
             raise SystemExit(f"crd paper ({name}) exited with {code}")
@@ -205,6 +238,11 @@ def one_round(sc, fmu: Path, figures: dict, paper: bool, loops: bool = True, bas
 def report(figures: dict, rounds: int, baseline: Path | None = None) -> None:
     print(f"medians over {rounds} alternating rounds (min..max); load average now "
           f"{' '.join(f'{x:.1f}' for x in os.getloadavg())}")
+    if ("busy",) in figures:
+        busy = figures[("busy",)]
+        print(f"machine busy (other processes) over the half second before each crd paper: median "
+              f"{statistics.median(busy):.0%}, max {max(busy):.0%}; idle (< 10 %) before "
+              f"{sum(b < 0.1 for b in busy)} of {len(busy)}")
     if ("none", "crd_inproc") in figures:
         report_loops(figures)
     if ("paper", "wall") in figures:
@@ -253,6 +291,9 @@ def main() -> None:
     parser.add_argument("--paper-only", action="store_true", help="only the crd paper figures")
     parser.add_argument("--paper-baseline", type=Path, metavar="DIR",
                         help="also time crd paper from this source tree (e.g. `git archive main`), alternating")
+    parser.add_argument("--idle-wait", type=float, default=0.0, metavar="S",
+                        help="before each crd paper, wait up to S s for an idle machine (busy < 10 %%); "
+                             "the busy fraction is reported")
     args = parser.parse_args()
     sc = load_scenario(args.scenario)
     fmu = resolve_fmu(sc)
@@ -261,7 +302,10 @@ def main() -> None:
         crd_paper(args.paper_baseline)  # warm up: the baseline builds its FMU on first use
     figures: dict = {}
     for _ in range(max(1, args.repeat)):
-        one_round(sc, fmu, figures, not args.skip_paper, loops=not args.paper_only, baseline=args.paper_baseline)
+        if not args.paper_only:
+            one_round(sc, fmu, figures)
+        if not args.skip_paper:
+            paper_round(figures, args.paper_baseline, args.idle_wait)
     report(figures, max(1, args.repeat), args.paper_baseline)
     if args.phases:
         phases(sc, fmu)
