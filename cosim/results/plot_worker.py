@@ -190,6 +190,9 @@ def _serve(conn: Connection, drawing: Drawing | None, preload: Callable[[], None
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, signal.SIG_DFL)  # not crd's handlers: the parent decides, and stop() is final
     preload()
+    # matplotlib's objects live as long as this process: frozen, the collector's full passes skip them
+    # (about a tenth of the drawing's CPU, measured on the paper's four figures)
+    gc.freeze()
     queue = _Queue(drawing)
     try:
         while True:
@@ -264,7 +267,7 @@ class _Queue:
     def _fork(self, item: tuple[str, object]) -> tuple[int, Connection]:
         """A helper (a plain fork: this process is a daemon) that draws ``item`` and sends the outcome."""
         reader, writer = multiprocessing.Pipe(duplex=False)
-        gc.freeze()
+        gc.freeze()  # the helper's collector leaves the inherited pages alone; here they stay frozen (_serve)
         pid = os.fork()
         if pid == 0:  # the helper
             try:
@@ -272,7 +275,6 @@ class _Queue:
                 send(writer, attempt(lambda: self._call(*item)))
             finally:
                 os._exit(0)  # no clean-up of what it inherited
-        gc.unfreeze()
         writer.close()
         return pid, reader
 
