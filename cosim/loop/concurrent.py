@@ -242,7 +242,7 @@ class _Series:
         elif isinstance(payload, _Spooled):
             self.results[key], self.paths[key] = payload.load(), payload.path
             if self.painter is not None and self.interrupt is None:
-                self.painter.timeline(payload.path, len(self.order) - len(self.results) - len(self.failed))
+                self.painter.timeline(payload.path)
             self.on_record(self.records())
 
     def finale(self, drawing: Drawing) -> bool:

@@ -52,30 +52,18 @@ def _drawn_by(tmp_path: Path) -> dict[str, int]:
     return {p.stem: int(p.read_text()) for p in tmp_path.glob("*.pid")}
 
 
-def _children(pid: int) -> list[int]:
-    with open(f"/proc/{pid}/task/{pid}/children") as handle:
-        return [int(p) for p in handle.read().split()]
-
-
-def _wait_drawn(tmp_path: Path, name: str) -> None:
-    deadline = time.monotonic() + 30.0
-    while not (tmp_path / f"{name}.pid").exists():
-        assert time.monotonic() < deadline, f"{name} not drawn within 30 s"
-        time.sleep(0.02)
-
-
 def test_a_worker_started_ahead_draws_what_it_is_sent_and_the_last_two_side_by_side(tmp_path):
     worker = PlotWorker.start(preload=lambda: None)  # as crd paper's: the drawing comes later, pickled
     try:
-        worker.bind(PidDrawing(tmp_path, draw_s=0.3))
+        worker.bind(PidDrawing(tmp_path, draw_s=0.2))
         a, b, c, d = _spool(tmp_path, "a", "b", "c", "d")
-        worker.timeline(a, runs_left=3)
-        worker.timeline(b, runs_left=2)
-        _wait_drawn(tmp_path, "b")
-        assert _children(worker.pid) == []  # no spare while two runs go on (memory)
-        worker.timeline(c, runs_left=1)  # one run left: the spare is forked
-        worker.timeline(d, runs_left=0)  # the last run is in: its timeline waits behind c's ...
-        worker.finale([a, b, c, d])  # ... and the finale is drawn meanwhile, by the spare
+        for path in (a, b, c):  # three waiting while runs go on: drawn one after the other, here
+            worker.timeline(path)
+        deadline = time.monotonic() + 30.0
+        while not (tmp_path / "c.pid").exists() and time.monotonic() < deadline:
+            time.sleep(0.02)
+        worker.timeline(d)  # the last run is in: its timeline and the finale, side by side
+        worker.finale([a, b, c, d])
         worker.finish()
         assert worker.failures() == []
     finally:
@@ -87,32 +75,29 @@ def test_a_worker_started_ahead_draws_what_it_is_sent_and_the_last_two_side_by_s
 
 
 def test_a_failed_draw_is_reported_and_the_others_are_drawn(tmp_path):
-    for fail in ("b", "finale-a-b-c"):
-        worker = PlotWorker.start(PidDrawing(tmp_path / fail, fail=fail))
-        (tmp_path / fail).mkdir()
-        try:
-            paths = _spool(tmp_path, "a", "b", "c")
-            for i, path in enumerate(paths):
-                worker.timeline(path, runs_left=2 - i)
-            worker.finale(paths)
-            worker.finish()
-            failures = worker.failures()
-        finally:
-            worker.stop()
-        assert [str(f) for f in failures] == [f"cannot draw {fail}"]
-        assert sorted(_drawn_by(tmp_path / fail)) == sorted({"a", "b", "c", "finale-a-b-c"} - {fail})
+    worker = PlotWorker.start(PidDrawing(tmp_path, fail="b"))
+    try:
+        paths = _spool(tmp_path, "a", "b", "c")
+        for path in paths:
+            worker.timeline(path)
+        worker.finale(paths)
+        worker.finish()
+        failures = worker.failures()
+    finally:
+        worker.stop()
+    assert [str(f) for f in failures] == ["cannot draw b"]
+    assert sorted(_drawn_by(tmp_path)) == ["a", "c", "finale-a-b-c"]
 
 
 def test_a_worker_that_dies_is_an_error_naming_its_exit_status(tmp_path):
-    for runs_left in (0, 5):  # with its spare forked, and before
-        worker = PlotWorker.start(PidDrawing(tmp_path))
-        try:
-            worker.timeline(_spool(tmp_path, "crash")[0], runs_left=runs_left)
-            worker.finish()
-            failures = worker.failures()
-        finally:
-            worker.stop()
-        assert "the plot worker ended (exit status 5)" in str(failures[0])
+    worker = PlotWorker.start(PidDrawing(tmp_path))
+    try:
+        worker.timeline(_spool(tmp_path, "crash")[0])
+        worker.finish()
+        with pytest.raises(RuntimeError, match=r"the plot worker ended \(exit status 5\)"):
+            raise worker.failures()[0]
+    finally:
+        worker.stop()
 
 
 def test_stop_ends_an_unused_worker_at_once(tmp_path):
