@@ -80,6 +80,18 @@ def send(conn: Connection, message: object) -> None:
         conn.send(Failure(RuntimeError(f"{type(text).__name__}: {text}")))
 
 
+def _reply(conn: Connection, failures: list[Failure]) -> None:
+    """Send ``failures`` (the reply to ``finish``); an exception that cannot be pickled goes as its text."""
+    def picklable(failure: Failure) -> Failure:
+        try:
+            pickle.dumps(failure.exc)
+            return failure
+        except Exception:  # noqa: BLE001 - e.g. a local class, a lock among its arguments
+            return Failure(RuntimeError(f"{type(failure.exc).__name__}: {failure.exc}"))
+
+    conn.send([picklable(f) for f in failures])
+
+
 def import_matplotlib() -> None:
     """The default ``preload`` of a worker started ahead (imports crd's plotting module and matplotlib)."""
     from .plots import preload_matplotlib
@@ -200,7 +212,7 @@ def _serve(conn: Connection, drawing: Drawing | None, preload: Callable[[], None
                 if kind == "drawing":
                     queue.drawing = payload
                 elif kind == "finish":
-                    conn.send(queue.drain())
+                    _reply(conn, queue.drain())
                     return
                 else:
                     queue.waiting.append((kind, payload))

@@ -107,3 +107,29 @@ def test_stop_ends_an_unused_worker_at_once(tmp_path):
     worker.stop()
     worker.stop()  # idempotent
     assert process_gone(pid) and time.monotonic() - started < 10.0
+
+
+class _Local(Exception):
+    """Cannot be pickled in the worker's reply (it holds a lock)."""
+
+    def __init__(self) -> None:
+        import threading
+
+        super().__init__("cannot draw with a lock")
+        self.lock = threading.Lock()
+
+
+class LockedDrawing(PidDrawing):
+    def timeline(self, record: RunRecord) -> None:
+        raise _Local()
+
+
+def test_a_failure_that_cannot_be_pickled_comes_back_as_its_text(tmp_path):
+    worker = PlotWorker.start(LockedDrawing(tmp_path))
+    try:
+        worker.timeline(_spool(tmp_path, "a")[0])
+        worker.finish()
+        failures = worker.failures()
+    finally:
+        worker.stop()
+    assert [str(f) for f in failures] == ["_Local: cannot draw with a lock"]
