@@ -175,12 +175,17 @@ def report(strategy: str, counts: dict, floor: list, context: list, loop_us: flo
           f"{loop_us:.1f} µs per cycle of CPU time ({ECU_CYCLE_S * 1e6 / loop_us:.0f}x)")
 
 
-def lean_vs_loop(sc, fmu, strategy: str, loops: int) -> tuple[float, float, float]:
-    """CPU µs per cycle: the leanest form, its core step's share, and the closed loop (medians, alternating)."""
+def lean_vs_loop(sc, fmu, strategy: str, loops: int) -> tuple[float, float, float, str]:
+    """CPU µs per cycle: the leanest form, its core step's share, and the closed loop (medians, alternating);
+    and the cycles and frames of each (the same work: both stop at contact with the object)."""
     cfg, lean, loop = ecu_config(sc, strategy), [], []
     for _ in range(loops):
-        lean.append(LeanLoop(sc, fmu, cfg, generate_key(), cfg.strategy_code).run(4000))
-        loop.append(recorded_run(sc, fmu, strategy)[2])
+        lean_loop = LeanLoop(sc, fmu, cfg, generate_key(), cfg.strategy_code)
+        lean.append(lean_loop.run(4000))
+        record, _, loop_us = recorded_run(sc, fmu, strategy)
+        loop.append(loop_us)
+    work = (f"lean form {len(lean_loop.rows)} cycles, {len(lean_loop.frames)} frames; "
+            f"closed loop {len(record.rows)} cycles, {len(record.frames)} frames")
     core_ns, real_step = [0, 0], lean_cycle.core_step
 
     def timed(state, inputs, params):
@@ -194,15 +199,15 @@ def lean_vs_loop(sc, fmu, strategy: str, loops: int) -> tuple[float, float, floa
         LeanLoop(sc, fmu, cfg, generate_key(), cfg.strategy_code).run(4000)
     finally:
         lean_cycle.core_step = real_step
-    return statistics.median(lean), core_ns[0] / core_ns[1] / 1e3, statistics.median(loop)
+    return statistics.median(lean), core_ns[0] / core_ns[1] / 1e3, statistics.median(loop), work
 
 
-def report_lean(strategy: str, loops: int, lean_us: float, core_us: float, loop_us: float) -> None:
+def report_lean(strategy: str, loops: int, lean_us: float, core_us: float, loop_us: float, work: str) -> None:
     goal_us = ECU_CYCLE_S * 1e6 / GOAL_X
     print(f"leanest pure-Python form of the whole cycle (benchmarks/lean_cycle.py), {strategy}, CPU µs per cycle, "
           f"medians of {loops} alternating runs; load average {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
     print(f"  lean form {lean_us:.1f} (of it the core step {core_us:.1f}); the closed loop {loop_us:.1f}; "
-          f"lean / loop {lean_us / loop_us:.2f}")
+          f"lean / loop {lean_us / loop_us:.2f} ({work})")
     print(f"  300x needs <= {goal_us:.1f} µs: the lean form alone allows at most {ECU_CYCLE_S * 1e6 / lean_us:.0f}x, "
           f"the closed loop {ECU_CYCLE_S * 1e6 / loop_us:.0f}x")
 
