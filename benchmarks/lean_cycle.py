@@ -21,13 +21,17 @@ operation (pack + sign, verify + check), one per side and cycle, and none deeper
 
 What it leaves out, because it never happens in the paper run's good path: error messages, events,
 fallbacks, resynchronisation. What it does not keep: python-can's ``BusABC`` (a deque instead), the
-codec's signal dicts (tuples in table order), configuration objects. So its time per cycle is a lower
-bound for any design in pure Python that keeps every check; with the 33.3 µs budget of 300x it says
-how much room is left for structure (classes, seams, the ``BusABC`` interface, error handling).
+codec's signal dicts (tuples in table order), configuration objects. So its time per cycle is close to
+a lower bound for any design in pure Python that keeps every check; with the 33.3 µs budget of 300x it
+says how much room is left for structure (classes, seams, the ``BusABC`` interface, error handling).
+Not squeezed further: the signals are packed and unpacked by loops over the codec's tables; straight-
+line code generated per message measured about 0.1 µs a frame faster (WheelSpeeds packing 0.70
+instead of 0.80 µs, timeit), about 0.7 µs a cycle.
 """
 
 from __future__ import annotations
 
+import struct
 import time
 from collections import deque
 
@@ -43,6 +47,7 @@ from cosim.world.plant_fmu import FmuPlant
 from ecu.core import CoreInputs, CoreState, step as core_step
 
 _new = tuple.__new__
+_MAC_INPUT = struct.Struct(">H8sQ").pack  # data ID | 8-byte frame | freshness value (can_dbc.secoc)
 _MSG = can.Message
 _WHEEL_MAX_KMH = LAYOUTS["WheelSpeeds"].signals[0].maximum
 _WINDOW = 10  # rate monitor: arrivals per window of 10 cycle times, at most 25 (can_dbc.rate)
@@ -51,19 +56,18 @@ _WINDOW = 10  # rate monitor: arrivals per window of 10 cycle times, at most 25 
 class _Tx:
     """A sent message: its packing table, CRC seed, counter and freshness value."""
 
-    __slots__ = ("fid", "auth_id", "table", "seed", "counter", "fv", "id_bytes")
+    __slots__ = ("fid", "auth_id", "table", "seed", "counter", "fv")
 
     def __init__(self, name: str, auth_id: int | None) -> None:
         layout = LAYOUTS[name]
         self.fid, self.auth_id, self.table, self.seed = layout.frame_id, auth_id, layout.pack_table, layout.crc_seed
         self.counter = self.fv = 0
-        self.id_bytes = self.fid.to_bytes(2, "big")
 
 
 class _Rx:
     """A received message: unpacking table, CRC seed, held frame, counter, score, arrival times."""
 
-    __slots__ = ("fid", "table", "seed", "held", "counter", "score", "sync", "times", "fv", "cycle_s", "id_bytes")
+    __slots__ = ("fid", "table", "seed", "held", "counter", "score", "sync", "times", "fv", "cycle_s")
 
     def __init__(self, name: str) -> None:
         layout = LAYOUTS[name]
@@ -71,7 +75,6 @@ class _Rx:
         self.held, self.counter, self.score, self.sync, self.fv = None, None, 0, 0, -1
         self.cycle_s = layout.cycle_time_ms / 1000.0
         self.times: deque[float] = deque(maxlen=26)
-        self.id_bytes = self.fid.to_bytes(2, "big")
 
 
 def pack_sign(tx: _Tx, values: tuple, mac, out: list) -> None:
@@ -87,7 +90,7 @@ def pack_sign(tx: _Tx, values: tuple, mac, out: list) -> None:
     d[0] = t[t[t[t[t[t[t[tx.seed ^ d[1]] ^ d[2]] ^ d[3]] ^ d[4]] ^ d[5]] ^ d[6]] ^ d[7]]
     tx.counter = (tx.counter + 1) % 15
     cmac = mac()
-    cmac.update(b"".join((tx.id_bytes, d, tx.fv.to_bytes(8, "big"))))
+    cmac.update(_MAC_INPUT(tx.fid, d, tx.fv))
     auth = bytearray((tx.fv & 0xFFFF).to_bytes(2, "little")) + cmac.finalize()[:6]
     tx.fv += 1
     out += (_MSG(0.0, tx.fid, False, False, False, None, 8, d), _MSG(0.0, tx.auth_id, False, False, False, None, 8, auth))
@@ -99,8 +102,8 @@ def verify_check(rx: _Rx, auth: bytearray, mac, t_s: float) -> tuple | None:
     d = msg.data
     fv = rx.fv + 1 + (((auth[0] | auth[1] << 8) - rx.fv - 1) & 0xFFFF)
     cmac = mac()
-    cmac.update(b"".join((rx.id_bytes, d, fv.to_bytes(8, "big"))))
-    if cmac.finalize()[:6] != auth[2:8] or msg.dlc != 8 or len(d) != 8 or msg.is_fd:
+    cmac.update(_MAC_INPUT(rx.fid, d, fv))
+    if msg.dlc != 8 or len(d) != 8 or msg.is_fd or cmac.finalize()[:6] != auth[2:8]:
         raise ValueError("authentication or length")
     rx.fv = fv
     t = _TABLE
