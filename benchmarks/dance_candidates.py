@@ -322,14 +322,11 @@ def _combinations(base):
         yield f"combo: hold ratio {ratio} + fast release", v(base, ecu={"contingency_release_ratio": ratio},
                                                              plant=FAST_RELEASE), G, None, R
     yield "combo: hold 1.2 + fast release + reacting driver 0.7 s", v(base, ecu=hold, plant=FAST_RELEASE), G, 0.7, R
-    late = {**hold, "actuation_latency_s": 0.2}
-    yield ("combo: hold 1.2 + fast release + delayed 100 ms (declared)", v(base, ecu=late, plant=FAST_RELEASE),
-           delayed_gateway(10), None, R)
-    for alpha in (0.5, 0.3, 0.2, 0.15):
-        yield f"perception: alpha-beta tracked range, alpha {alpha}", base, G, None, tracked_radar(alpha)
-    yield "perception: 10 Hz tracks (raw)", base, G, None, tracked_radar(1.0, 2)
-    for alpha in (0.5, 0.2):
-        yield f"perception: 10 Hz, tracked alpha {alpha}", base, G, None, tracked_radar(alpha, 2)
+    yield ("combo: hold 1.2 + fast release + delayed 100 ms (declared)",
+           v(base, ecu={**hold, "actuation_latency_s": 0.2}, plant=FAST_RELEASE), delayed_gateway(10), None, R)
+    for alpha, hz in ((0.5, 20), (0.3, 20), (0.2, 20), (0.15, 20), (1.0, 10), (0.5, 10), (0.2, 10)):
+        kind = "raw" if alpha == 1.0 else f"alpha-beta tracked, alpha {alpha}"
+        yield f"perception: {hz} Hz tracks, {kind}", base, G, None, tracked_radar(alpha, 20 // hz)
     yield ("perception: 10 Hz tracked 0.5 + hold 1.2 + fast release", v(base, ecu=hold, plant=FAST_RELEASE), G,
            None, tracked_radar(0.5, 2))
     for jerk in (10, 30):
@@ -337,8 +334,7 @@ def _combinations(base):
     yield ("contingency: jerk 30 + hold 1.2 + fast release", v(base, ecu=hold, plant=FAST_RELEASE),
            jerk_limited_gateway(30), None, R)
     for target in (9.8, 8.1):  # MATLAB's full-braking stage; the model deceleration of none
-        yield f"contingency: target {target} m/s^2 (below full scale)", v(base, ecu={"contingency_decel_mps2": target}), \
-            G, None, R
+        yield f"contingency: target {target} m/s^2", v(base, ecu={"contingency_decel_mps2": target}), G, None, R
     yield from _carla_like(base)
 
 
@@ -354,6 +350,11 @@ def _carla_like(base):
         for ratio in (1.2, 1.5, 2.0):  # 2.0: beyond the sourced 1.2 and 1.5, to see the trend
             yield (f"CARLA-like: lag-free, loop {n * 10} ms, hold {ratio}",
                    v(base, ecu={"contingency_release_ratio": ratio}, plant=NO_LAG), held_gateway(n), None, R)
+    strong = {**NO_LAG, "max_drive_force": 12000.0}  # ours: 0.8 g, CARLA's first gear is traction-limited
+    for name, ecu in (("", {}), (", hold 1.5", {"contingency_release_ratio": 1.5}),
+                      (", hold to standstill", {"contingency_release_speed_mps": 0.1})):
+        yield f"CARLA-like: lag-free, loop 100 ms, 12 kN drive{name}", v(base, ecu=ecu, plant=strong), \
+            held_gateway(10), None, R
     yield "CARLA-like: no ABS", v(base, plant={"abs_enabled": False}), Gateway, None, R
     yield ("CARLA-like: no ABS, lag-free, loop 100 ms", v(base, plant={"abs_enabled": False, **NO_LAG}),
            held_gateway(10), None, R)
