@@ -20,6 +20,10 @@ import logging
 import os
 import sys
 import threading
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..results.plot_worker import PlotWorker
 
 # numpy's OpenBLAS starts a thread per core on import (50 ms of CPU, and a thread in every
 # process crd forks); crd's arrays are small, so one thread does. Set before numpy is imported;
@@ -97,7 +101,7 @@ def _hide_unused_asammdf(argv: list[str]) -> None:
         sys.modules.setdefault("asammdf", None)
 
 
-def _start_ahead(argv: list[str]):
+def _start_ahead(argv: list[str]) -> PlotWorker | None:
     """Work started before the subcommand's modules are imported: ``crd paper``'s plot worker
     (:func:`cosim.cli.paper.plot_worker_ahead`), or None."""
     wanted = next((a for a in argv if a in SUBCOMMANDS), None)
@@ -140,7 +144,7 @@ def main(argv: list[str] | None = None) -> int:
     return code
 
 
-def _main(argv: list[str], plot_worker) -> int:
+def _main(argv: list[str], plot_worker: PlotWorker | None) -> int:
     parser = _build_parser(argv)
     args = parser.parse_args(argv)
     if plot_worker is not None:

@@ -2,7 +2,8 @@
 
 Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``
 (side by side, one per core, when the ECU runs in process: :mod:`cosim.loop.concurrent`;
-the same files and table as one after the other),
+the same files and table as one after the other; the plots drawn by a plot worker that
+``crd`` forks before it imports the rest of crd: :func:`plot_worker_ahead`),
 writes every run's outputs, ``speed_profiles.png`` and ``report.md``, prints a
 table and each claim of the paper with PASS or FAIL
 (:mod:`cosim.results.paper_claims`), and exits 3 if any claim fails, 4 if a
@@ -19,8 +20,8 @@ import argparse
 import sys
 from pathlib import Path
 
-# Only the standard library here: ``crd`` imports this module before it forks the plot worker
-# (plot_worker_ahead); the rest of crd is imported by add_subparser and _do_paper, meanwhile.
+# Nothing of crd but the plot worker (standard library only) here: ``crd`` imports this module before
+# it forks the plot worker (plot_worker_ahead); add_subparser and _do_paper import the rest meanwhile.
 from ..results.plot_worker import PlotWorker, cores
 
 PAPER_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper_cyclist.toml"
