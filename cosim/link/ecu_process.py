@@ -1,7 +1,8 @@
 """``EcuProcess``: ``crd ecu`` as a child OS process, started and stopped by PID.
 
-The child runs ``python -m cosim.cli.main ecu --interface I --channel C
---config F [--sim-time]`` with the run's :class:`ecu.EcuConfig` written to
+The child runs ``python -m ecu --interface I --channel C --config F
+[--sim-time]`` (``crd ecu`` as a program of its own, quicker to start and
+to exit: :mod:`ecu.__main__`) with the run's :class:`ecu.EcuConfig` written to
 ``F`` (floats as ``repr``, so they read back bit-identical). Its stdout and
 stderr go to files in ``workdir`` (never pipes: a chatty child cannot block).
 
@@ -46,7 +47,7 @@ class EcuProcess:
     def __init__(self, interface: str, channel: str, config: EcuConfig, sim_time: bool, workdir: Path) -> None:
         self.workdir = Path(workdir)
         config_path = write_ecu_config(self.workdir / "ecu.toml", config)
-        self.argv = [sys.executable, "-m", "cosim.cli.main", "ecu", "--interface", interface,
+        self.argv = [sys.executable, "-m", "ecu", "--interface", interface,
                      "--channel", channel, "--config", str(config_path)]
         if sim_time:
             self.argv.append("--sim-time")

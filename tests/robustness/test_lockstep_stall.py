@@ -115,7 +115,7 @@ def _kill_the_ecu_at(out_dir, t_s: float) -> threading.Thread:
                         argv = f.read().split(b"\0")
                 except (FileNotFoundError, ProcessLookupError, IndexError):
                     continue
-                if ppid == os.getpid() and b"ecu" in argv and b"cosim.cli.main" in argv:
+                if ppid == os.getpid() and argv[1:3] == [b"-m", b"ecu"]:  # python -m ecu: see EcuProcess
                     return int(entry)
         return None
 
