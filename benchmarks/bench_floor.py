@@ -21,6 +21,12 @@ Their sum is the floor. For context, and not part of it: the ECU core's step ove
 recorded from the same run, the packing and unpacking of the signals through the codec's
 tables, and the measured closed loop (CPU time, the same process). The figures are medians over
 ``--repeat`` batches; the machine may be shared, so the load average is printed.
+
+Then the whole cycle in its leanest pure-Python form (``benchmarks/lean_cycle.py``: every
+required operation on every frame and cycle, the real core step included, with no layers and no
+``BusABC``), run alternately with the closed loop, ``--loops`` times each (CPU time, medians).
+Its time per cycle is a lower bound for a pure-Python design that keeps every check: when it
+exceeds the 33.3 µs of 300x, no restructuring of the loop reaches 300x here.
 """
 
 from __future__ import annotations
@@ -42,9 +48,11 @@ from can_dbc.crc import e2e_p01_crc8
 from can_dbc.receiver import _decode
 from cosim.cli.paper import PAPER_SCENARIO
 from cosim.loop.experiment import resolve_fmu
-from cosim.loop.master import ClosedLoop
+from cosim.loop.master import ClosedLoop, ecu_config
 from cosim.scenarios.loader import load_scenario
 from cosim.world.plant_fmu import FmuPlant
+import lean_cycle  # benchmarks/, on sys.path when run as a script
+from lean_cycle import LeanLoop
 
 BATCH = 200
 GOAL_X = 300.0
@@ -167,10 +175,49 @@ def report(strategy: str, counts: dict, floor: list, context: list, loop_us: flo
           f"{loop_us:.1f} µs per cycle of CPU time ({ECU_CYCLE_S * 1e6 / loop_us:.0f}x)")
 
 
+def lean_vs_loop(sc, fmu, strategy: str, loops: int) -> tuple[float, float, float, str]:
+    """CPU µs per cycle: the leanest form, its core step's share, and the closed loop (medians, alternating);
+    and the cycles and frames of each (the same work: both stop at contact with the object)."""
+    cfg, lean, loop = ecu_config(sc, strategy), [], []
+    for _ in range(loops):
+        lean_loop = LeanLoop(sc, fmu, cfg, generate_key(), cfg.strategy_code)
+        lean.append(lean_loop.run(4000))
+        record, _, loop_us = recorded_run(sc, fmu, strategy)
+        loop.append(loop_us)
+    work = (f"lean form {len(lean_loop.rows)} cycles, {len(lean_loop.frames)} frames; "
+            f"closed loop {len(record.rows)} cycles, {len(record.frames)} frames")
+    core_ns, real_step = [0, 0], lean_cycle.core_step
+
+    def timed(state, inputs, params):
+        t0 = time.perf_counter_ns()
+        out = real_step(state, inputs, params)
+        core_ns[0] += time.perf_counter_ns() - t0
+        core_ns[1] += 1
+        return out
+    lean_cycle.core_step = timed  # a separate run: the timer's own cost stays out of the figures above
+    try:
+        LeanLoop(sc, fmu, cfg, generate_key(), cfg.strategy_code).run(4000)
+    finally:
+        lean_cycle.core_step = real_step
+    return statistics.median(lean), core_ns[0] / core_ns[1] / 1e3, statistics.median(loop), work
+
+
+def report_lean(strategy: str, loops: int, lean_us: float, core_us: float, loop_us: float, work: str) -> None:
+    goal_us = ECU_CYCLE_S * 1e6 / GOAL_X
+    print(f"leanest pure-Python form of the whole cycle (benchmarks/lean_cycle.py), {strategy}, CPU µs per cycle, "
+          f"medians of {loops} alternating runs; load average {' '.join(f'{x:.1f}' for x in os.getloadavg())}")
+    print(f"  lean form {lean_us:.1f} (of it the core step {core_us:.1f}, the rest {lean_us - core_us:.1f}); "
+          f"the closed loop {loop_us:.1f}; "
+          f"lean / loop {lean_us / loop_us:.2f} ({work})")
+    print(f"  300x needs <= {goal_us:.1f} µs: the lean form alone allows at most {ECU_CYCLE_S * 1e6 / lean_us:.0f}x, "
+          f"the closed loop {ECU_CYCLE_S * 1e6 / loop_us:.0f}x")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--strategy", default="conservative")
     parser.add_argument("--repeat", type=int, default=31, help="batches per item; medians are reported")
+    parser.add_argument("--loops", type=int, default=5, help="alternating runs of the lean form and the loop")
     args = parser.parse_args()
     sc = load_scenario(PAPER_SCENARIO)
     fmu = resolve_fmu(sc)
@@ -179,6 +226,7 @@ def main() -> None:
     counts = per_cycle_counts(record)
     report(args.strategy, counts, floor_items(sc, fmu, counts, args.repeat), context_items(record, calls, args.repeat),
            loop_us)
+    report_lean(args.strategy, args.loops, *lean_vs_loop(sc, fmu, args.strategy, args.loops))
 
 
 if __name__ == "__main__":

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import os
 import stat
+import struct
 from pathlib import Path
 
 import can
@@ -56,6 +57,8 @@ FRESHNESS_BITS = 16
 MAC_BYTES = 6
 _FV_MODULUS = 1 << FRESHNESS_BITS
 _FV_MASK = _FV_MODULUS - 1
+#: the authenticator's truncated freshness value, 2 bytes little-endian
+_FRESHNESS = struct.Struct("<H").pack
 #: protected frame ID -> authenticator frame ID
 AUTH_ID_OF: dict[int, int] = {LAYOUTS[name].frame_id: auth for name, auth in AUTHENTICATORS.items()}
 #: authenticator frame ID -> protected frame ID
@@ -99,12 +102,25 @@ def load_key_file(path: str | Path) -> bytes:
     return key
 
 
+#: data ID (2 bytes) | an 8-byte frame | FV (8 bytes), big-endian, packed in one C call: 0.54
+#: instead of 0.62 µs a MAC with the join of three pieces it replaces (timeit, copy + update +
+#: finalize included); a frame of any other length takes :func:`_mac_input`
+_MAC_INPUT_8 = struct.Struct(">H8sQ").pack
+
+
+def _mac_input(data_id: int, frame: bytes, fv: int) -> bytes:
+    """M = data ID (2 bytes, big-endian) | protected frame | FV (8 bytes, big-endian)."""
+    return _MAC_INPUT_8(data_id, frame, fv) if len(frame) == 8 else \
+        b"".join((data_id.to_bytes(2, "big"), frame, fv.to_bytes(8, "big")))
+
+
 class _Mac:
     """Truncated CMAC-AES-128 over data ID | frame | FV; the keyed CMAC is built once and copied.
 
     Copying the keyed CMAC (0.54 µs for our 18 bytes, measured) is cheaper than keying a new one
-    (1.3 µs); ``cryptography`` offers nothing cheaper. The message is joined in one step from the
-    data ID's bytes, prebuilt per ID, instead of three conversions and two concatenations.
+    (1.3 µs); ``cryptography`` offers nothing cheaper. The sender's and the verifier's common
+    paths compute the MAC inline (the same three calls as :meth:`mac`): one Python call less for
+    each of the 6.4 MACs of a cycle.
     """
 
     def __init__(self, key: bytes) -> None:
@@ -112,14 +128,10 @@ class _Mac:
             raise ValueError(f"expected a {KEY_BYTES}-byte key, got {len(key)} bytes")
         self._base = CMAC(algorithms.AES(key))
         self._copy = self._base.copy
-        self._id_bytes: dict[int, bytes] = {}
 
     def mac(self, data_id: int, frame: bytes, fv: int) -> bytes:
-        id_bytes = self._id_bytes.get(data_id)
-        if id_bytes is None:
-            id_bytes = self._id_bytes[data_id] = data_id.to_bytes(2, "big")
         cmac = self._copy()
-        cmac.update(b"".join((id_bytes, frame, fv.to_bytes(8, "big"))))
+        cmac.update(_mac_input(data_id, frame, fv))
         return cmac.finalize()[:MAC_BYTES]
 
 
@@ -136,8 +148,11 @@ class SecOcSender(_Mac):
         auth_id = AUTH_ID_OF[data_id]
         fv = self._fv.get(data_id, 0)
         self._fv[data_id] = fv + 1
-        payload = bytearray((fv & _FV_MASK).to_bytes(2, "little"))
-        payload += self.mac(data_id, msg.data, fv)
+        frame = msg.data
+        cmac = self._copy()  # self.mac(data_id, frame, fv), inline
+        cmac.update(_MAC_INPUT_8(data_id, frame, fv) if len(frame) == 8 else _mac_input(data_id, frame, fv))
+        payload = bytearray(_FRESHNESS(fv & _FV_MASK))
+        payload += cmac.finalize()[:MAC_BYTES]
         # positional (timestamp, arbitration_id, is_extended_id, is_remote_frame, is_error_frame, channel,
         # dlc, data): binding python-can's keyword parameters costs more than the frame (see codec.encode)
         return ContractMessage(0.0, auth_id, False, False, False, None, 8, payload)
@@ -157,8 +172,10 @@ class SecOcVerifier(_Mac):
         last = self._last.get(data_id, -1)
         truncated = auth[0] | auth[1] << 8
         fv = last + 1 + ((truncated - last - 1) & _FV_MASK)
-        tag = bytes(auth[2:8])
-        if self.mac(data_id, frame, fv) == tag:
+        tag = auth[2:8]  # a bytearray compares equal to the bytes of the same content
+        cmac = self._copy()  # self.mac(data_id, frame, fv), inline
+        cmac.update(_MAC_INPUT_8(data_id, frame, fv) if len(frame) == 8 else _mac_input(data_id, frame, fv))
+        if cmac.finalize()[:MAC_BYTES] == tag:
             self._last[data_id] = fv
             return fv
         if fv >= _FV_MODULUS and self.mac(data_id, frame, fv - _FV_MODULUS) == tag:

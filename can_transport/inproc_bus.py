@@ -69,6 +69,17 @@ class InProcessBus(BusABC):
             if peer._waiter is not None:
                 peer._waiter.set()
 
+    def send_all(self, msgs: list[Message]) -> None:
+        """:meth:`send` of each of ``msgs`` in order, as one call (the co-simulation master's frames
+        of a cycle): one ``deque.extend`` per receiver instead of a Python call per frame (4.4 frames
+        a cycle in the paper run; 4 frames: 0.13 instead of 0.41 µs, timeit)."""
+        if self._is_shutdown:
+            raise CanOperationError("crd_inproc: cannot send on a closed bus")
+        for peer in self._peers:
+            peer._queue.extend(msgs)
+            if peer._waiter is not None:
+                peer._waiter.set()
+
     def recv(self, timeout: float | None = None) -> Message | None:
         # Fast path without filters: a frame waiting, or none and no wait wanted. Skips
         # BusABC.recv's clock reads, filter check and _recv_internal call: a receive costs

@@ -45,6 +45,7 @@ FAULT_SIGNALS: dict[FaultFlag, str] = {
     FaultFlag.FOREIGN_OVERRIDE: "FaultForeignOverride",
     FaultFlag.SEQUENCE: "FaultSequence",
 }
+_new_tuple = tuple.__new__
 #: can_dbc.Receiver.rx_flags value -> the core's FaultFlag bits
 _RX_FAULTS = tuple((RX_RATE & v and 1 << FaultFlag.RATE) | (RX_SEQUENCE & v and 1 << FaultFlag.SEQUENCE)
                    for v in range(4))
@@ -103,14 +104,15 @@ class InputLatch:
         wheel_score, wheel_rx = health("WheelSpeeds", t_s)
         driver_score, driver_rx = health("DriverInput", t_s)
         object_score, object_rx = health("ObjectTrack", t_s)
-        # positional, in CoreInputs' field order: built every cycle, and binding 18 keywords costs more
-        return CoreInputs(
+        # every field, in CoreInputs' order, as one tuple made a CoreInputs without its generated __new__
+        # (built every cycle: 0.25 instead of 0.70-0.77 µs, timeit)
+        return _new_tuple(CoreInputs, (
             t_s, self.wheel_speeds_mps, self.accel_pedal, self.brake_pedal, self.object_valid,
             self.object_range_m, self.object_range_rate_mps,
             rx["WheelSpeeds"], rx["DriverInput"], rx["ObjectTrack"],
             wheel_score, driver_score, object_score, self.object_lateral_m,
             _RX_FAULTS[wheel_rx], _RX_FAULTS[driver_rx], _RX_FAULTS[object_rx], node_flags,
-        )
+        ))
 
 
 def _clamped(value: float, limits: tuple[float, float]) -> float:

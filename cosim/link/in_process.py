@@ -10,9 +10,11 @@ from __future__ import annotations
 
 import itertools
 import os
+from typing import Callable
 
 import can
 
+from can_transport.inproc_bus import InProcessBus
 from ecu import EcuConfig, EcuNode
 
 from ..results.run_record import RunEvent
@@ -36,8 +38,12 @@ class InProcessLink:
             raise
         self.node = EcuNode(self._ecu_bus, config, key=key)
         self.events: list[RunEvent] = []
-        # bound once: the master calls these every cycle (saves an attribute chain per call)
-        self._send_frame, self._recv_frame, self._step = self._bus.send, self._bus.recv, self.node.step
+        self._step = self.node.step  # bound once: called every cycle (saves an attribute chain per call)
+        # the master's frames of a cycle go onto our own bus in one call (InProcessBus.send_all: 4 frames
+        # 0.13 instead of 0.41 µs, timeit); any other interface takes them frame by frame, through BusABC
+        bus = self._bus
+        self._send_frames = bus.send_all if isinstance(bus, InProcessBus) else _one_by_one(bus.send)
+        self._recv_frame = bus.recv
 
     def start(self) -> None:
         pass
@@ -47,9 +53,7 @@ class InProcessLink:
 
     def send(self, t_s: float, cycle: int, frames: list[can.Message]) -> list[can.Message]:
         """Send ``frames`` and run one ECU cycle; returns the extra frames sent (none here)."""
-        send = self._send_frame
-        for msg in frames:
-            send(msg)
+        self._send_frames(frames)
         self._step(t_s)
         return []
 
@@ -71,3 +75,12 @@ class InProcessLink:
     def close(self) -> None:
         self._ecu_bus.shutdown()
         self._bus.shutdown()
+
+
+def _one_by_one(send: Callable[[can.Message], None]) -> Callable[[list[can.Message]], None]:
+    """``send`` of each frame of a list, in order (any python-can bus)."""
+    def send_all(frames: list[can.Message]) -> None:
+        for msg in frames:
+            send(msg)
+    return send_all
+

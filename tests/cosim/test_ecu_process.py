@@ -14,10 +14,12 @@ import signal
 import tempfile
 import threading
 import time
+from collections import Counter
 from pathlib import Path
 
 import pytest
 
+from can_dbc import ECU_CYCLE_S, LAYOUTS
 from cosim.cli.paper import PAPER_SCENARIO
 from cosim.link.ecu_link import EcuLinkError, EcuOptions
 from cosim.link.ecu_process import EcuProcess
@@ -135,8 +137,14 @@ def test_a_second_ecu_on_the_bus_is_detected_and_not_obeyed(plant_fmu3, sock_dir
         for p in ecus:
             p.stop()
     second = [e for e in rec.events if e.kind == "second_ecu"]
-    # detected within 5 cycles of the start, and held for the rest of the run (both keep sending)
-    assert len(second) == 1 and second[0].t_s <= 0.05 and "a second ECU" in second[0].detail
+    # the first cycle whose reply held two SafetyOverride frames: when the bus first carried both
+    # ECUs (on a busy host the second one's first frames can come cycles late; measured up to 0.1 s)
+    override_id = LAYOUTS["SafetyOverride"].frame_id
+    per_cycle = Counter(f.t_s for f in rec.frames if f.arbitration_id == override_id)
+    both_s = min((t for t, n in per_cycle.items() if n >= 2), default=None)
+    assert both_s is not None, "no cycle's reply held two SafetyOverride frames: the second ECU never sent"
+    # detected in that cycle or the next, and held for the rest of the run (both keep sending)
+    assert len(second) == 1 and second[0].t_s <= both_s + ECU_CYCLE_S + 1e-9 and "a second ECU" in second[0].detail
     assert any("second ECU" in r.getMessage() for r in caplog.records)
     after = [row for row in rec.rows if row[0] >= second[0].t_s]
     assert {row[6] for row in after} == {"SECOND_ECU"}

@@ -11,7 +11,7 @@ import signal
 import socket
 import subprocess
 import sys
-import tempfile
+import functools
 import time
 from pathlib import Path
 
@@ -163,14 +163,15 @@ def test_failing_runs_are_recorded_and_the_others_run(tmp_path) -> None:
     assert "failed runs" in (tmp_path / "out" / "report.md").read_text().lower()
 
 
-def crash_on_run_1(run, sha, keep):
-    """A task whose worker dies (os._exit stands in for a native crash) on run 1; counts its attempts.
+def crash_on_run_1(marker_dir: Path, run, sha, keep):
+    """A task whose worker dies (os._exit stands in for a native crash) on run 1; counts its attempts
+    in a file under the test's own ``marker_dir`` (two runs of the test at once must not share it).
 
     It dies a moment into the run, as a crash in the FMU would: dying within milliseconds of the
     previous task's end would race that task's completion message, and Dask would blame both.
     """
     if run.index == 1:
-        with open(Path(tempfile.gettempdir()) / f"crd-test-crash-{run.key}", "a") as handle:
+        with open(marker_dir / f"crd-test-crash-{run.key}", "a") as handle:
             handle.write("attempt\n")
         time.sleep(0.3)
         os._exit(13)
@@ -187,14 +188,10 @@ def test_a_task_whose_worker_dies_is_retried_once_then_failed(tmp_path, workers,
     spec = load_sweep(_write(tmp_path, text))
     key = make_plan(spec).runs[1].key
     assert chunk_size(n_runs, workers) == (1 if workers == 2 else 2)
-    marker = Path(tempfile.gettempdir()) / f"crd-test-crash-{key}"
-    marker.unlink(missing_ok=True)
-    try:
-        _, outcome = run_sweep(spec, tmp_path / "out", ClusterOptions(workers=workers), task=crash_on_run_1,
-                               report=False)
-        attempts = marker.read_text().count("attempt")
-    finally:
-        marker.unlink(missing_ok=True)
+    marker = tmp_path / f"crd-test-crash-{key}"
+    _, outcome = run_sweep(spec, tmp_path / "out", ClusterOptions(workers=workers),
+                           task=functools.partial(crash_on_run_1, tmp_path), report=False)
+    attempts = marker.read_text().count("attempt")
     rows = pq.read_table(tmp_path / "out" / "results.parquet").to_pylist()
     expected = ["ok", "failed"] + ["ok"] * (n_runs - 2)
     assert [r["status"] for r in rows] == expected, [(r["run"], r["run_key"], r["error"]) for r in rows]

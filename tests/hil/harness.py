@@ -32,6 +32,7 @@ from typing import Callable, Mapping
 import can
 
 from can_dbc import COUNTER_MODULUS, Receiver, encode
+from can_dbc.contract import timeout_s
 from ecu import ECU_CYCLE_S, EcuConfig, EcuNode
 
 OUTPUTS = ("SafetyOverride", "EcuStatus")
@@ -64,6 +65,9 @@ class Harness:
         self._periodic: dict[str, _Periodic] = {}
         self._lock = threading.Lock()
         self.last_sent_s: dict[str, float] = {}
+        #: every send time (s) of each named message: a wall-clock test tells a stall of this
+        #: harness's own sender (the host descheduled it) from the ECU's behaviour with it
+        self.sent_times_s: dict[str, list[float]] = {}
         self.received: list[Received] = []
         self.sent = 0
 
@@ -79,7 +83,8 @@ class Harness:
             if bad_crc:
                 msg.data[0] ^= 0xFF
             self.bus.send(msg)
-            self.last_sent_s[name] = self.backend.now_s()
+            now_s = self.last_sent_s[name] = self.backend.now_s()
+            self.sent_times_s.setdefault(name, []).append(now_s)
             self.sent += 1
 
     def send_raw(self, msg: can.Message) -> None:
@@ -105,6 +110,52 @@ class Harness:
                 p.next_s += p.period_s * max(1, int((now_s - p.next_s) // p.period_s) + 1)
         for name, p in due:
             self.send(name, p.signals, counter=p.counter)
+
+    def send_gaps(self, name: str, longer_than_s: float) -> list[tuple[float, float]]:
+        """``(start_s, end_s)`` of every gap over ``longer_than_s`` between sends of ``name`` (and since its last, if periodic).
+
+        In lock-step there are none: the harness owns time. On the wall clock such a gap
+        means the host stalled this harness's own sender.
+        """
+        times = self.sent_times_s.get(name, [])
+        if name in self._periodic:  # still due: the time since the last send is a gap too
+            times = times + [self.backend.now_s()]
+        return [(a, b) for a, b in zip(times, times[1:]) if b - a > longer_than_s]
+
+    def own_stalls(self, inputs=("WheelSpeeds", "DriverInput", "ObjectTrack")) -> list[tuple[float, float]]:
+        """Windows ``(from_s, to_s)`` where a stall of this harness's own sender explains an input timeout.
+
+        A send gap over the input's timeout less two cycles counts: the ECU stamps a frame
+        with the cycle it is taken in, so two frames ``g`` apart can be up to a cycle (and
+        the ECU's own lag) further apart. A window runs from the gap's start + that limit to
+        its end + the default fault recovery cycles + the backend's slack.
+        """
+        recovery_s = EcuConfig().fault_recovery_cycles * ECU_CYCLE_S + self.backend.slack_s
+        windows = []
+        for name in inputs:
+            limit_s = timeout_s(name) - 2 * ECU_CYCLE_S
+            windows += [(a + limit_s, b + recovery_s) for a, b in self.send_gaps(name, limit_s)]
+        return windows
+
+    def unexplained(self, frames: list[Received]) -> list[Received]:
+        """``frames`` outside every :meth:`own_stalls` window."""
+        stalls = self.own_stalls()
+        return [f for f in frames if not any(a <= f.t_s <= b for a, b in stalls)]
+
+    def collect_steady(self, name: str, duration_s: float, tries: int = 3) -> list[Received]:
+        """:meth:`collect` over a window that no stall of this harness's own sender touched.
+
+        A wall-clock window that one touched measured the host, not the ECU: it is taken
+        again, up to ``tries`` times (an AssertionError after that).
+        """
+        for _ in range(tries):
+            start_s = self.backend.now_s()
+            frames = self.collect(name, duration_s)
+            end_s = self.backend.now_s()
+            if not any(a <= end_s and b >= start_s for a, b in self.own_stalls()):
+                return frames
+        raise AssertionError(f"the host stalled this harness's sender in each of {tries} windows "
+                             f"of {duration_s} s: {self.own_stalls()}")
 
     # -- receiving ---------------------------------------------------------
     def _pump(self) -> list[Received]:

@@ -75,3 +75,28 @@ def test_shutdown_is_idempotent_and_a_closed_bus_refuses(pair):
         a.send(_msg(1))
     b.send(_msg(1))  # b's only peer left: nothing to deliver, no error
     assert b.recv(0.0) is None
+
+
+def test_send_all_delivers_like_send_in_order(pair):
+    a, b = pair
+    c = can.Bus(interface="crd_inproc", channel=a.channel_info.split("'")[1])
+    try:
+        sent = [_msg(i) for i in range(4)]
+        a.send_all(sent)
+        a.send(_msg(9))
+        for rx in (b, c):
+            got = [rx.recv(0.0) for _ in range(5)]
+            assert all(g is s for g, s in zip(got, sent)) and got[4].arbitration_id == 9
+            assert rx.recv(0.0) is None
+        assert a.recv(0.0) is None  # not its own frames
+        timer = threading.Timer(0.05, lambda: a.send_all([_msg(7)]))
+        timer.start()
+        try:
+            assert b.recv(timeout=5.0).arbitration_id == 7  # wakes a blocked receiver, as send does
+        finally:
+            timer.cancel()
+    finally:
+        c.shutdown()
+    a.shutdown()
+    with pytest.raises(can.CanOperationError):
+        a.send_all([_msg(1)])
