@@ -96,7 +96,7 @@ class EcuProcess:
             if self.proc.poll() is None:
                 self.signal_stop()
                 try:
-                    _wait_exit(self.proc, timeout_s)
+                    wait_exit(self.proc, timeout_s)
                 except subprocess.TimeoutExpired:
                     log.warning("crd ecu pid %d ignored SIGTERM for %.1f s; killing it", self.pid, timeout_s)
                     self.proc.kill()
@@ -199,7 +199,7 @@ def _claim_spare(args: list[str], workdir: Path) -> subprocess.Popen | None:
     return spare.proc
 
 
-def _wait_exit(proc: subprocess.Popen, timeout_s: float) -> None:
+def wait_exit(proc: subprocess.Popen, timeout_s: float) -> None:
     """``proc.wait(timeout_s)``, but woken the moment the child exits.
 
     ``Popen.wait`` with a timeout polls with sleeps that double up to 50 ms, so a
