@@ -6,6 +6,9 @@
    beside two CPU-bound neighbour processes that this script starts and stops
    by PID. Speed-up over real time = simulated s / wall s of the three runs,
    with the ECU's start-up and join (``total``) and without (``cycles``);
+   each round starts cold, like one ``crd paper --ecu process``: no spare ECU
+   is waiting (:func:`cosim.link.ecu_process.discard_spare`), so the first
+   run waits for a whole start-up and the next two claim the spare;
    medians over the rounds, and the busy median as a share of the quiet one
    (goals: quiet >= 60x, busy >= 40 % of quiet). Each round also runs the three
    strategies in process (crd_inproc): the wall time per cycle of both says how
@@ -25,9 +28,15 @@
    ``crd ecu`` running ``EcuNode.run`` on ``crd_unix``: cycle lag and jitter
    p50/p99/max of the master and of the ECU (goal: jitter p99 <= 2 ms).
 
+5. ECU process start and stop, ``--starts`` times alternating: ``python -m
+   ecu`` (what the master spawns) against ``python -m cosim.cli.main ecu``
+   (the ``crd`` dispatcher, with the interpreter's tear-down at exit), no
+   spare: wall time from spawn to joined on ``crd_pair``, and from SIGTERM and
+   the master's ``BYE`` to the exit (medians).
+
 Every process is started and stopped by PID (the ECU through cosim.link.ecu_process).
 
-Run: ``python benchmarks/bench_hil.py [--rounds 3] [--round-trips 3000] [--flood-s 60] [--realtime-s 60]``
+Run: ``python benchmarks/bench_hil.py [--rounds 3] [--round-trips 3000] [--flood-s 60] [--realtime-s 60] [--starts 12]``
 (a section runs only when its count or duration is above 0).
 """
 
@@ -36,6 +45,7 @@ from __future__ import annotations
 import argparse
 import os
 import resource
+import shutil
 import signal
 import statistics
 import subprocess
@@ -49,7 +59,7 @@ import can
 from can_dbc import ECU_CYCLE_S, CounterSequence, encode
 from cosim.cli.paper import PAPER_SCENARIO
 from cosim.link.ecu_link import EcuOptions
-from cosim.link.ecu_process import EcuProcess
+from cosim.link.ecu_process import EcuProcess, discard_spare, wait_exit, write_ecu_config
 from cosim.loop.experiment import resolve_fmu
 from cosim.loop.master import ecu_config, run_scenario
 from cosim.scenarios.loader import load_scenario, scenario_from_dict
@@ -79,6 +89,7 @@ def _paper_process_runs(sc, fmu) -> tuple[float, ...]:
     over the CPU time of the master and the ECU processes (what a machine that never made either
     wait for a core or a wake-up would give); then the same three runs in process (the work of a
     cycle without the second process and the transport), and the wall time per cycle of both (µs)."""
+    discard_spare()  # a series of runs starts cold, as one crd paper does
     sim_s = wall_s = join_s = 0.0
     cycles = 0
     cpu0 = time.process_time()
@@ -91,6 +102,7 @@ def _paper_process_runs(sc, fmu) -> tuple[float, ...]:
         wall_s += rec.metrics.wall_time_s
         join_s += rec.ecu_join_wait_s
         cycles += round(rec.metrics.sim_time_s / ECU_CYCLE_S)
+    discard_spare()  # the spare the last run started is part of the series' CPU (crd paper kills it at exit)
     children = resource.getrusage(resource.RUSAGE_CHILDREN)  # the ECU processes, reaped by now
     cpu_s = (time.process_time() - cpu0 + children.ru_utime - children0.ru_utime
              + children.ru_stime - children0.ru_stime)
@@ -216,6 +228,47 @@ def flood_memory(duration_s: float, rate_hz: float) -> None:
     print(f"   ECU process: {ecu.output().splitlines()[-1] if ecu.output() else '(no report)'}")
 
 
+def _start_stop_once(route: list[str], config_path: Path, channel: str) -> tuple[float, float]:
+    """(spawn -> joined, SIGTERM + BYE -> exited) of one ECU process on ``crd_pair`` (s)."""
+    with can.Bus(interface="crd_pair", channel=channel) as bus:
+        t0 = time.perf_counter()
+        proc = subprocess.Popen([sys.executable, *route, "--interface", "crd_pair", "--channel", channel,
+                                 "--config", str(config_path), "--sim-time"], stdin=subprocess.DEVNULL,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            if not bus.wait_for_peer(10.0):
+                raise RuntimeError(f"{' '.join(route)} did not join")
+            t1 = time.perf_counter()
+            proc.send_signal(signal.SIGTERM)
+            bus.shutdown()
+            wait_exit(proc, 10.0)
+            return t1 - t0, time.perf_counter() - t1
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+
+
+def start_stop(n: int) -> None:
+    discard_spare()
+    routes = {"python -m ecu": ["-m", "ecu"], "python -m cosim.cli.main ecu": ["-m", "cosim.cli.main", "ecu"]}
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in routes}
+    config = ecu_config(load_scenario(PAPER_SCENARIO), "tightening")
+    machine = _machine()
+    for _ in range(n):
+        for name, route in routes.items():
+            workdir = Path(tempfile.mkdtemp(prefix="crd-bench-"))
+            try:
+                config_path = write_ecu_config(workdir / "ecu.toml", config)
+                times[name].append(_start_stop_once(route, config_path, str(workdir / "can.sock")))
+            finally:
+                shutil.rmtree(workdir, ignore_errors=True)
+    print(f"5. ECU process start and stop, {n} of each alternating, no spare ({machine}):")
+    for name, pairs in times.items():
+        print(f"   {name:<28}: spawn -> joined median {1e3 * statistics.median(p[0] for p in pairs):5.1f} ms, "
+              f"SIGTERM + BYE -> exited median {1e3 * statistics.median(p[1] for p in pairs):5.1f} ms")
+
+
 def _wait_join(bus: can.BusABC, ecu: EcuProcess) -> None:
     deadline = time.monotonic() + 10.0
     while bus.peer_count < 1:
@@ -231,6 +284,7 @@ def main() -> None:
     parser.add_argument("--flood-s", type=float, default=60.0, help="flood length (s)")
     parser.add_argument("--flood-rate", type=float, default=12_000.0, help="flood frames per second")
     parser.add_argument("--realtime-s", type=float, default=60.0, help="real-time run length (s)")
+    parser.add_argument("--starts", type=int, default=12, help="ECU process starts and stops of each kind")
     args = parser.parse_args()
     print(f"machine: {_machine()} (shared with other work unless stated)")
     if args.rounds > 0:
@@ -242,6 +296,8 @@ def main() -> None:
         flood_memory(args.flood_s, args.flood_rate)
     if args.realtime_s > 0:
         realtime(args.realtime_s)
+    if args.starts > 0:
+        start_stop(args.starts)
 
 
 if __name__ == "__main__":

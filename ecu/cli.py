@@ -4,13 +4,19 @@
 opens the bus, runs :meth:`ecu.EcuNode.run` (real time, or paced by SimClock
 frames with ``--sim-time``) until SIGINT or SIGTERM sets the stop event,
 shuts the bus down and prints a one-line summary of the run.
+
+:func:`main` is the same command without the ``crd`` dispatcher, for
+``python -m ecu`` (:mod:`ecu.__main__`): the same arguments, output, errors
+(one line, ``error: ...``, exit 1; ``--debug`` shows the traceback) and exit codes.
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import logging
 import signal
+import sys
 import threading
 
 import can
@@ -23,9 +29,34 @@ from .node import EcuNode
 #: exit status of a run that saw frames failing authentication or a foreign SafetyOverride
 EXIT_SECURITY = 4
 
+_HELP = "run the active-safety ECU on a CAN interface"
+
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("ecu", help="run the active-safety ECU on a CAN interface")
+    _add_arguments(subparsers.add_parser("ecu", help=_HELP))
+
+
+def main(argv: list[str]) -> int:
+    """``crd ecu`` as a program of its own (``python -m ecu ARGS``); returns the exit code."""
+    parser = argparse.ArgumentParser(prog="python -m ecu", description=f"{_HELP} (as crd ecu).")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks and debug logging")
+    _add_arguments(parser)
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.DEBUG if args.debug else logging.WARNING,
+                        format="%(levelname)s %(name)s: %(message)s")
+    try:
+        return int(args.func(args))
+    except KeyboardInterrupt:  # before the run installs its own SIGINT handler
+        print("interrupted", file=sys.stderr)
+        return 128 + signal.SIGINT
+    except Exception as exc:  # noqa: BLE001 - the CLI boundary turns every error into one line
+        if args.debug:
+            raise
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+
+
+def _add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--interface", required=True, help="python-can interface (virtual, socketcan, ...)")
     parser.add_argument("--channel", required=True, help="channel of the interface")
     parser.add_argument("--strategy", choices=sorted(STRATEGIES), help="override the config's strategy")

@@ -31,7 +31,7 @@ from ecu import EcuConfig
 from ..results.events import EventLog
 from ..results.run_record import RunEvent
 from .ecu_link import EcuLinkError, EcuOptions
-from .ecu_process import EcuProcess
+from .ecu_process import EcuProcess, prepare_spare
 
 log = logging.getLogger(__name__)
 _POLL_S = 0.005
@@ -134,6 +134,8 @@ class BusEndpoint:
         while self.recv(_DRAIN_QUIET_S if first_frame_joins and self.keyed else 0.0) is not None:
             pass
         self.join_wait_s = time.monotonic() - started
+        if self.process is not None and not self.options.realtime:
+            prepare_spare()  # the next run's ECU starts up now, beside this run (never in real time: jitter)
 
     def recv(self, timeout: float, t_s: float = 0.0) -> can.Message | None:
         try:

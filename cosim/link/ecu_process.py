@@ -1,9 +1,22 @@
 """``EcuProcess``: ``crd ecu`` as a child OS process, started and stopped by PID.
 
-The child runs ``python -m cosim.cli.main ecu --interface I --channel C
---config F [--sim-time]`` with the run's :class:`ecu.EcuConfig` written to
+The child runs ``python -m ecu --interface I --channel C --config F
+[--sim-time]`` (``crd ecu`` as a program of its own, quicker to start and
+to exit: :mod:`ecu.__main__`) with the run's :class:`ecu.EcuConfig` written to
 ``F`` (floats as ``repr``, so they read back bit-identical). Its stdout and
 stderr go to files in ``workdir`` (never pipes: a chatty child cannot block).
+
+A spare (:func:`prepare_spare`): once a lock-step run's ECU has joined, a
+second ``python -m ecu --args-from-stdin`` is started, which does its imports
+(most of an ECU's ~0.15 s start-up) and then waits for one line on its stdin.
+The next :class:`EcuProcess` of this process claims it, if it is still
+waiting and the working directory and environment are unchanged, by sending
+the arguments and its output files; otherwise it starts a fresh child as
+before. So in a series of runs (``crd paper --ecu process``: three strategies)
+only the first waits for a whole start-up, and each ECU is still one process
+of its own run, with that run's config and fresh key file, stopped by PID.
+A spare that is never claimed is killed by PID at exit (:func:`discard_spare`,
+``atexit``), and exits by itself at the end of its stdin if this process dies.
 
 Stopping is bounded: SIGTERM, and SIGCONT in case it was stopped (the ECU
 sets its stop event, shuts its bus down and prints its run summary), then
@@ -14,16 +27,20 @@ outlives its parent's run, on errors and on KeyboardInterrupt too.
 
 from __future__ import annotations
 
+import atexit
+import json
 import logging
 import os
 import select
 import signal
 import subprocess
 import sys
-from dataclasses import fields
+import threading
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 from ecu import EcuConfig
+from ecu.__main__ import SPARE_FLAG  # the argument that makes python -m ecu a spare
 
 from ..scenarios.toml_writer import dumps
 
@@ -46,16 +63,18 @@ class EcuProcess:
     def __init__(self, interface: str, channel: str, config: EcuConfig, sim_time: bool, workdir: Path) -> None:
         self.workdir = Path(workdir)
         config_path = write_ecu_config(self.workdir / "ecu.toml", config)
-        self.argv = [sys.executable, "-m", "cosim.cli.main", "ecu", "--interface", interface,
+        self.argv = [sys.executable, "-m", "ecu", "--interface", interface,
                      "--channel", channel, "--config", str(config_path)]
         if sim_time:
             self.argv.append("--sim-time")
         self._out = open(self.workdir / "ecu.stdout", "wb")
         self._err = open(self.workdir / "ecu.stderr", "wb")
-        self.proc = subprocess.Popen(self.argv, stdin=subprocess.DEVNULL, stdout=self._out, stderr=self._err)
+        spare = _claim_spare(self.argv[3:], self.workdir)
+        self.proc = spare or subprocess.Popen(self.argv, stdin=subprocess.DEVNULL, stdout=self._out, stderr=self._err)
         self.returncode: int | None = None
         self._signalled = False
-        log.info("started crd ecu, pid %d: %s", self.proc.pid, " ".join(self.argv))
+        log.info("%s crd ecu, pid %d: %s", "claimed the spare" if spare else "started", self.proc.pid,
+                 " ".join(self.argv))
 
     @property
     def pid(self) -> int:
@@ -77,7 +96,7 @@ class EcuProcess:
             if self.proc.poll() is None:
                 self.signal_stop()
                 try:
-                    _wait_exit(self.proc, timeout_s)
+                    wait_exit(self.proc, timeout_s)
                 except subprocess.TimeoutExpired:
                     log.warning("crd ecu pid %d ignored SIGTERM for %.1f s; killing it", self.pid, timeout_s)
                     self.proc.kill()
@@ -97,7 +116,90 @@ class EcuProcess:
         return "\n".join(t for t in text if t)
 
 
-def _wait_exit(proc: subprocess.Popen, timeout_s: float) -> None:
+@dataclass
+class _Spare:
+    """A waiting ``python -m ecu --args-from-stdin`` and what it was started with."""
+
+    proc: subprocess.Popen
+    owner_pid: int
+    cwd: str
+    environ: dict[str, str]
+
+    def fits(self) -> bool:
+        """Claimable here: ours (not a forked parent's), same directory and environment, still waiting."""
+        try:
+            same_place = self.cwd == os.getcwd() and self.environ == dict(os.environ)
+        except OSError:  # the working directory is gone
+            same_place = False
+        return self.owner_pid == os.getpid() and same_place and self.proc.poll() is None
+
+    def stop(self) -> None:
+        """Kill it by PID and reap it (it holds no bus and no file of a run)."""
+        if self.owner_pid == os.getpid():
+            if self.proc.poll() is None:
+                self.proc.kill()
+            self.proc.wait()
+            self.proc.stdin.close()
+
+
+_spare: _Spare | None = None
+_spare_lock = threading.Lock()
+
+
+def prepare_spare() -> None:
+    """Start a spare ECU process for the next run, unless one is waiting (see the module docstring)."""
+    global _spare
+    with _spare_lock:
+        if _spare is not None and _spare.fits():
+            return
+        old, _spare = _spare, None
+        if old is not None:
+            old.stop()
+        proc = subprocess.Popen([sys.executable, "-m", "ecu", SPARE_FLAG], stdin=subprocess.PIPE, bufsize=0,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        _spare = _Spare(proc, os.getpid(), os.getcwd(), dict(os.environ))
+        log.info("started a spare crd ecu for the next run, pid %d", proc.pid)
+
+
+def spare_pid() -> int | None:
+    """PID of the waiting spare, if there is one (for tests and benchmarks)."""
+    spare = _spare
+    return spare.proc.pid if spare is not None else None
+
+
+def discard_spare() -> None:
+    """Kill the waiting spare, if any, by its PID: at exit, or where a series of runs is to start cold."""
+    global _spare
+    with _spare_lock:
+        spare, _spare = _spare, None
+    if spare is not None:
+        spare.stop()
+
+
+atexit.register(discard_spare)
+
+
+def _claim_spare(args: list[str], workdir: Path) -> subprocess.Popen | None:
+    """The waiting spare, given ``args`` and the run's output files; None if there is none that fits."""
+    global _spare
+    with _spare_lock:
+        spare, _spare = _spare, None
+    if spare is None:
+        return None
+    if not spare.fits():
+        spare.stop()
+        return None
+    request = {"argv": args, "stdout": str(workdir / "ecu.stdout"), "stderr": str(workdir / "ecu.stderr")}
+    try:
+        spare.proc.stdin.write(json.dumps(request).encode() + b"\n")  # a few hundred bytes: fits the pipe
+        spare.proc.stdin.close()
+    except OSError:  # it died since fits(): start a fresh one instead
+        spare.stop()
+        return None
+    return spare.proc
+
+
+def wait_exit(proc: subprocess.Popen, timeout_s: float) -> None:
     """``proc.wait(timeout_s)``, but woken the moment the child exits.
 
     ``Popen.wait`` with a timeout polls with sleeps that double up to 50 ms, so a

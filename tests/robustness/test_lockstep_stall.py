@@ -102,6 +102,14 @@ def _scenario_file(tmp_path, expect: str = "") -> str:
     return str(path)
 
 
+def _waiting_spare(pid: str) -> bool:
+    """A spare ECU not yet claimed by a run (cosim.link.ecu_process) still writes to /dev/null."""
+    try:
+        return os.readlink(f"/proc/{pid}/fd/1") == "/dev/null"
+    except OSError:
+        return True
+
+
 def _kill_the_ecu_at(out_dir, t_s: float) -> threading.Thread:
     """Kill (by PID) this process's ``crd ecu`` child once the streamed time series reaches ``t_s``."""
 
@@ -115,7 +123,7 @@ def _kill_the_ecu_at(out_dir, t_s: float) -> threading.Thread:
                         argv = f.read().split(b"\0")
                 except (FileNotFoundError, ProcessLookupError, IndexError):
                     continue
-                if ppid == os.getpid() and b"ecu" in argv and b"cosim.cli.main" in argv:
+                if ppid == os.getpid() and argv[1:3] == [b"-m", b"ecu"] and not _waiting_spare(entry):
                     return int(entry)
         return None
 
