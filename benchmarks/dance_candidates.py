@@ -128,7 +128,6 @@ def variants(base):
             yield f"plant {key} {value}", v(base, plant={key: value}), G, None
     fast = {"brake_dead_time": 0.03, "brake_time_constant": 0.05, "throttle_time_constant": 0.05}
     yield "plant: fast actuators (issue 14)", v(base, plant=fast), G, None
-    no_lag = {"brake_dead_time": 0.0, "brake_time_constant": 0.02, "throttle_time_constant": 0.05}
     yield "plant: lag-free, actuation held 100 ms", v(base, plant=NO_LAG), held_gateway(10), None
     yield from _release_and_hold(base)
     yield from _driver(base)

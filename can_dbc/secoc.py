@@ -42,6 +42,7 @@ from __future__ import annotations
 import os
 import stat
 import struct
+from hmac import compare_digest
 from pathlib import Path
 
 import can
@@ -172,13 +173,15 @@ class SecOcVerifier(_Mac):
         last = self._last.get(data_id, -1)
         truncated = auth[0] | auth[1] << 8
         fv = last + 1 + ((truncated - last - 1) & _FV_MASK)
-        tag = auth[2:8]  # a bytearray compares equal to the bytes of the same content
+        tag = bytes(auth[2:8])
         cmac = self._copy()  # self.mac(data_id, frame, fv), inline
         cmac.update(_MAC_INPUT_8(data_id, frame, fv) if len(frame) == 8 else _mac_input(data_id, frame, fv))
-        if cmac.finalize()[:MAC_BYTES] == tag:
+        # compared in constant time: how long a comparison takes must not tell a forger how many of
+        # the tag's leading bytes it guessed right
+        if compare_digest(cmac.finalize()[:MAC_BYTES], tag):
             self._last[data_id] = fv
             return fv
-        if fv >= _FV_MODULUS and self.mac(data_id, frame, fv - _FV_MODULUS) == tag:
+        if fv >= _FV_MODULUS and compare_digest(self.mac(data_id, frame, fv - _FV_MODULUS), tag):
             raise FreshnessError(f"0x{data_id:03X}: freshness value {fv - _FV_MODULUS} already used "
                                  f"(last accepted {last}): a replayed frame")
         raise AuthError(f"0x{data_id:03X}: MAC does not verify (freshness {fv})")
