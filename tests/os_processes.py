@@ -51,3 +51,23 @@ def wait_for(condition, timeout_s: float, what: str, proc: subprocess.Popen) -> 
         assert proc.poll() is None, f"the child ended early with {proc.returncode}: {proc.stderr.read()}"
         assert time.monotonic() < deadline, f"{what} within {timeout_s} s: nothing streamed"
         time.sleep(0.05)
+
+
+def crd_signalled_when(args: list[str], ready, what: str, sig: int, check=None) -> tuple[int, str]:
+    """Run ``crd ARGS`` as a child; once ``ready()`` (within 60 s) call ``check()`` if given, then send ``sig``.
+
+    Returns the child's exit code and its stderr; the child is killed and reaped on every way out.
+    """
+    proc = subprocess.Popen([sys.executable, "-m", "cosim.cli.main", *args],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        wait_for(ready, 60.0, what, proc)
+        if check is not None:
+            check()
+        proc.send_signal(sig)
+        _, err = proc.communicate(timeout=60.0)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    return proc.returncode, err

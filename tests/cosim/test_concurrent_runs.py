@@ -15,8 +15,6 @@ import dataclasses
 import json
 import os
 import signal
-import subprocess
-import sys
 import threading
 import time
 from pathlib import Path
@@ -29,7 +27,7 @@ from cosim.loop.concurrent import Plots, cores, run_concurrently
 from cosim.loop.experiment import run_strategies
 from cosim.results.plot_worker import PlotWorker
 from cosim.results.run_record import LoggedFrame, RunMetrics, RunRecord
-from tests.os_processes import last_time_s, wait_for
+from tests.os_processes import crd_signalled_when, last_time_s
 from cosim.scenarios.loader import load_scenario
 
 SHORT = Path(__file__).parent / "sweep_data" / "short_cyclist.toml"
@@ -138,18 +136,11 @@ def test_a_signal_ends_every_running_run_with_its_results(plant_fmu3, tmp_path, 
     scenario.write_text(NO_OBJECT)
     out = tmp_path / "out"
     started = STRATEGIES[:cores()]  # one run per core; the rest never start after a signal
-    proc = subprocess.Popen([sys.executable, "-m", "cosim.cli.main", "paper", "--scenario", str(scenario),
-                             "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        wait_for(lambda: min(last_time_s(out / s / "timeseries.csv") for s in started) >= 3.0, 60.0,
-                 f"{started} streaming 3 s of simulated time", proc)
-        proc.send_signal(sig)  # to crd paper alone: it passes the signal on to its workers
-        _, err = proc.communicate(timeout=60.0)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-    assert proc.returncode == code, err
+    # the signal goes to crd paper alone: it passes it on to its workers
+    returncode, err = crd_signalled_when(["paper", "--scenario", str(scenario), "--out", str(out)],
+                                         lambda: min(last_time_s(out / s / "timeseries.csv") for s in started) >= 3.0,
+                                         f"{started} streaming 3 s of simulated time", sig)
+    assert returncode == code, err
     assert f"interrupted: none interrupted by {sig.name}" in err
     metrics = json.loads((out / "metrics.json").read_text())
     assert metrics["status"] == "interrupted"

@@ -13,14 +13,12 @@ from __future__ import annotations
 
 import json
 import signal
-import subprocess
-import sys
 
 import can
 import pytest
 
 from cosim.cli.main import main
-from tests.os_processes import last_time_s, wait_for
+from tests.os_processes import crd_signalled_when, last_time_s
 
 LONG = """
 [scenario]
@@ -38,19 +36,14 @@ def test_a_signal_mid_run_keeps_the_results_so_far(plant_fmu3, tmp_path, sig, co
     scenario.write_text(LONG)
     out = tmp_path / "out"
     series = out / "tightening" / "timeseries.csv"
-    proc = subprocess.Popen([sys.executable, "-m", "cosim.cli.main", "run", str(scenario), "--out", str(out)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        wait_for(lambda: last_time_s(series) >= 3.0, 60.0, "3 s of simulated time on disk", proc)
+    def still_running() -> None:
         running = json.loads((out / "metrics.json").read_text())
         assert running["status"] == "running" and running["runs"] == []
-        proc.send_signal(sig)
-        _, err = proc.communicate(timeout=60.0)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-    assert proc.returncode == code, err
+
+    returncode, err = crd_signalled_when(["run", str(scenario), "--out", str(out)],
+                                         lambda: last_time_s(series) >= 3.0, "3 s of simulated time on disk",
+                                         sig, check=still_running)
+    assert returncode == code, err
     assert f"interrupted: tightening interrupted by {sig.name}" in err
     metrics = json.loads((out / "metrics.json").read_text())
     run = metrics["runs"][0]
