@@ -48,7 +48,6 @@ Events from the link, the gateway and the loop are merged rate-limited
 
 from __future__ import annotations
 
-import itertools
 import logging
 import math
 import time
@@ -57,7 +56,7 @@ from typing import Callable
 
 import numpy as np
 
-from can_dbc import COUNTER_MODULUS, ECU_CYCLE_S, SecOcSender, encode, signal_layout
+from can_dbc import ECU_CYCLE_S, CounterSequence, SecOcSender, encode, signal_layout
 from can_dbc.units import KMH_PER_MPS
 from ecu import EcuConfig
 
@@ -127,10 +126,9 @@ class ClosedLoop:
         self._signer = SecOcSender(key) if key is not None else None
         self.gateway = Gateway(scenario.gateway, conflict_window_cycles=10 if self.ecu.realtime else 1, key=key)
         self.record = RunRecord(self.strategy, RunMetrics(self.strategy))
-        # each message's E2E counter 0, 1, ..., 14, 0, ... as CounterSequence counts, with a C-level next()
-        # (itertools.cycle): no Python frame for the 3.3 counters a cycle (0.020 instead of 0.056 µs each, timeit)
+        # bound once: next() of each message's E2E counter (C-level), called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
-            itertools.cycle(range(COUNTER_MODULUS)).__next__ for _ in range(3))
+            CounterSequence().next for _ in range(3))
         # the link before the plant: a spawned ECU (--ecu process) starts up while the FMU loads. Saves
         # at most the FMU's load (8-12 ms measured here), within the noise of the ECU's ~0.17 s start-up
         self.link = open_link(self.ecu, self._ecu_cfg, ECU_CYCLE_S, key)

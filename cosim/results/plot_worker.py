@@ -32,9 +32,10 @@ import os
 import pickle
 import signal
 from collections import deque
-from contextlib import contextmanager
 from multiprocessing.connection import Connection, wait
-from typing import Callable, Iterator, Protocol, Sequence
+from typing import Callable, Protocol, Sequence
+
+from .held_signals import signals_held
 
 
 class Drawing(Protocol):
@@ -164,7 +165,7 @@ class PlotWorker:
         """Wait for the worker's reply to :meth:`finish`: the draws' failures. A signal meanwhile raises
         here with nothing read (call again to go on waiting)."""
         wait([self._conn])
-        with _signals_held():  # the reply is read whole or not at all
+        with signals_held():  # the reply is read whole or not at all
             try:
                 failures = [f.exc for f in self._conn.recv()]
             except (EOFError, ConnectionResetError):
@@ -183,17 +184,6 @@ class PlotWorker:
         if self._process.is_alive():
             self._process.terminate()
         self._process.join()
-
-
-@contextmanager
-def _signals_held() -> Iterator[None]:
-    """SIGINT and SIGTERM held back within the block (delivered at its end)."""
-    held = {signal.SIGINT, signal.SIGTERM}
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 def _serve(conn: Connection, drawing: Drawing | None, preload: Callable[[], None]) -> None:

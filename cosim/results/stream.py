@@ -30,6 +30,7 @@ from can.io.generic import FileIOMessageWriter
 
 from ..errors import ConfigError
 from .can_logs import open_python_can_writer, streamed, write_can_logs
+from .held_signals import signals_held
 from .run_record import TIMESERIES_COLUMNS, RunRecord
 from .writer import timeseries_cells
 
@@ -77,7 +78,14 @@ class RunStream:
         self.closed = False
 
     def flush(self, record: RunRecord) -> None:
-        """Write ``record``'s rows and frames added since the last call and pass them to the OS."""
+        """Write ``record``'s rows and frames added since the last call and pass them to the OS.
+
+        A signal meanwhile is held until the write is whole (:mod:`cosim.results.held_signals`).
+        """
+        with signals_held():
+            self._write_new(record)
+
+    def _write_new(self, record: RunRecord) -> None:
         rows = record.rows
         writerow = self._csv.writerow
         for row in rows[self._rows:]:
