@@ -13,6 +13,7 @@ run, after each, and on every way out, including SIGINT/SIGTERM.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import logging
 import signal
@@ -33,6 +34,8 @@ from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
 from ..results.run_record import RunRecord
 from ..scenarios.config import Scenario
+from ..world.plant import isolation_of
+from ..world.plant_fmu import fmu_shared
 
 #: what a run is judged by in ``report.md``: (heading, verdicts) from the records
 Judge = Callable[[Sequence[RunRecord]], tuple[str, list[Verdict]]]
@@ -118,7 +121,8 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
             out_dir.mkdir(parents=True, exist_ok=True)
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
         run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
-        profiles_drawn = _series(concurrent, strategies, ecu, plot_worker)(scenario, strategies, run, records, out_dir)
+        series = _series(concurrent, strategies, ecu, plot_worker, fmu_path)
+        profiles_drawn = series(scenario, strategies, run, records, out_dir)
         status = _series_status(records)
     except KeyboardInterrupt as exc:
         status, error = "interrupted", str(exc)
@@ -156,11 +160,11 @@ def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..
 
 
 def _series(concurrent: bool, strategies: Sequence[str], ecu: EcuOptions | None,
-            plot_worker: PlotWorker | None) -> Callable[..., bool]:
+            plot_worker: PlotWorker | None, fmu_path: Path) -> Callable[..., bool]:
     """Side by side (:func:`_run_concurrently`, drawn by ``plot_worker`` if one was started ahead) when
     ``concurrent`` and :func:`_can_run_concurrently`, else one after the other (:func:`_run_in_turn`)."""
     if concurrent and _can_run_concurrently(strategies, ecu):
-        return functools.partial(_run_concurrently, plot_worker=plot_worker)
+        return functools.partial(_run_concurrently, plot_worker=plot_worker, fmu_path=fmu_path)
     return _run_in_turn
 
 
@@ -172,17 +176,22 @@ def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> 
 
 
 def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
-                      records: list[RunRecord], out_dir: Path | None, plot_worker: PlotWorker | None) -> bool:
+                      records: list[RunRecord], out_dir: Path | None, plot_worker: PlotWorker | None,
+                      fmu_path: Path) -> bool:
     """The runs in forked workers (:func:`cosim.loop.concurrent.run_concurrently`), ``metrics.json`` after
-    each; whether ``speed_profiles.png`` has been drawn (by the plot worker, beside the last timeline)."""
+    each; whether ``speed_profiles.png`` has been drawn (by the plot worker, beside the last timeline).
+    A plant in this process is prepared here once (:func:`~cosim.world.plant_fmu.fmu_shared`: hashed,
+    parsed, extracted), not by each run: every worker inherits it, then loads the library once."""
 
     def on_record(done: list[RunRecord]) -> None:
         if out_dir is not None:
             write_metrics(out_dir / "metrics.json", done, provenance(scenario, done), "running")
 
     plots = _series_plots(out_dir, scenario, strategies) if out_dir is not None else None
-    return run_concurrently(strategies, lambda strategy: run(strategy, plot=False), records, plots, on_record,
-                            jobs=cores(), keep_frames=out_dir is None, plot_worker=plot_worker)
+    shared = fmu_shared(fmu_path) if isolation_of(scenario.plant) == "inprocess" else contextlib.nullcontext()
+    with shared:
+        return run_concurrently(strategies, lambda strategy: run(strategy, plot=False), records, plots, on_record,
+                                jobs=cores(), keep_frames=out_dir is None, plot_worker=plot_worker)
 
 
 def _series_plots(out_dir: Path, scenario: Scenario, strategies: Sequence[str]) -> SeriesPlots:

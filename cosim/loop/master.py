@@ -54,7 +54,7 @@ import time
 from pathlib import Path
 from typing import Callable
 
-import numpy as np
+from numpy.random import default_rng  # here, not at the first run: each forked run worker would import it
 
 from can_dbc import ECU_CYCLE_S, CounterSequence, SecOcSender, encode, signal_layout
 from can_dbc.units import KMH_PER_MPS
@@ -120,7 +120,7 @@ class ClosedLoop:
         self._has_scene = bool(self.scene)  # its objects are fixed: asked once, not 4x per cycle (Scene.__bool__)
         self._bumper_m = 0.0  # front bumper at this cycle's first half (m): the contact look-ahead's start
         self.driver = make_driver(scenario.driver)
-        self.radar = RadarModel(scenario.radar, np.random.default_rng(scenario.scenario.seed))
+        self.radar = RadarModel(scenario.radar, default_rng(scenario.scenario.seed))
         self.ecu = ecu if ecu is not None else EcuOptions()
         key = run_key(self.ecu, self._ecu_cfg)  # SecOC: None means E2E protection only
         self._signer = SecOcSender(key) if key is not None else None
@@ -310,7 +310,7 @@ class ClosedLoop:
         m.wall_time_s = wall_s
         m.contingency_invocations = self.gateway.contingency_invocations
         self.gateway.finish(t_s)
-        if m.min_gap_m is not None and not np.isfinite(m.min_gap_m):
+        if m.min_gap_m is not None and not math.isfinite(m.min_gap_m):
             m.min_gap_m = None
         self.record.events = merge_events(self.link.events, self.gateway.events, self.record.events)
         report = self.link.report()

@@ -19,6 +19,8 @@ from typing import Callable, Protocol
 
 from ..scenarios.config import PlantConfig
 from .plant_fmu import FmuPlant, PlantSample
+# at import, not in finite_check: a forked run worker (crd paper) would import it again in each process
+from .plant_process import _check_finite, _output_names
 
 
 class Plant(Protocol):
@@ -63,8 +65,6 @@ def finite_check(cfg: PlantConfig) -> Callable[[PlantSample, float], None]:
     child). The fast path is one sum: a NaN or an infinity makes ``s - s`` non-zero (so can an
     overflow of the sum, after which the slow path finds every value finite and passes).
     """
-    from .plant_process import _check_finite, _output_names
-
     names = _output_names(cfg)
 
     def check(sample: PlantSample, t_s: float) -> None:

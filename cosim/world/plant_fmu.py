@@ -23,8 +23,9 @@ import hashlib
 import logging
 import shutil
 import threading
+from contextlib import contextmanager
 from pathlib import Path
-from typing import NamedTuple
+from typing import Iterator, NamedTuple
 
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
@@ -155,6 +156,19 @@ def share_fmu(path: Path) -> SharedFmu:
     if shared is None:
         shared = _SHARED[path] = SharedFmu(path)
     return shared
+
+
+@contextmanager
+def fmu_shared(path: Path) -> Iterator[SharedFmu]:
+    """:func:`share_fmu` for the block, unshared after (unless it was shared before): e.g. prepared once
+    in a parent before it forks run workers, which then neither parse nor extract it again."""
+    owned = Path(path) not in _SHARED
+    shared = share_fmu(path)
+    try:
+        yield shared
+    finally:
+        if owned:
+            unshare_fmu(path)
 
 
 def unshare_fmu(path: Path) -> None:
