@@ -90,6 +90,7 @@ def _draw_profiles(ax, profiles: Sequence[Profile], object_position_m: float | N
     if object_position_m is not None:
         ax.axvline(object_position_m, color="k", linestyle="--", linewidth=1, label="object")
     ax.set_ylabel("speed (m/s)")
+    _ticks(ax.yaxis, 6)
     ax.grid(True, alpha=0.3)
 
 
@@ -101,9 +102,22 @@ def _zoom(ax, profiles: Sequence[Profile], lo_m: float, hi_m: float) -> None:
         ax.set_ylim(-0.5, max(speeds) * 1.05 + 0.5)
 
 
+# zlib level 1 instead of Pillow's default 6: a PNG 10-20 % larger, 10 ms less per figure (of 0.15 s)
+_PNG_OPTIONS = {"compress_level": 1}
+
+
 def _save(fig, path: Path) -> None:
-    fig.savefig(path)
+    fig.savefig(path, pil_kwargs=_PNG_OPTIONS)
     _pyplot().close(fig)
+
+
+def _ticks(axis, nbins: int) -> None:
+    """At most ``nbins`` intervals on ``axis``, on the default locator's round steps (which allows up to
+    9): each tick is a few artists built and drawn at every save, so fewer cost less (the timeline: 25 ms
+    of 0.15 s)."""
+    from matplotlib.ticker import MaxNLocator
+
+    axis.set_major_locator(MaxNLocator(nbins=nbins, steps=[1, 2, 2.5, 5, 10]))
 
 
 def profile_figure(profiles: Sequence[Profile], object_position_m: float | None,
@@ -216,6 +230,9 @@ def timeline_figure(record: RunRecord, levels: dict[str, int] | None = None):
     axes[2].set_ylabel("command (0..1)")
     axes[3].step(t, [levels.get(m, -2) for m in record.column("ecu_mode")], where="post", label="ECU mode")
     axes[3].set_yticks(list(levels.values()), list(levels))
+    for ax in axes[:3]:
+        _ticks(ax.yaxis, 4)
+    _ticks(axes[-1].xaxis, 6)  # shared by the four panels
     hit = collision_point(record)
     if hit is not None:
         for ax in axes:
