@@ -195,6 +195,8 @@ class _Series:
         self.failures: list[BaseException] = []
         self.failed: set[str] = set()
         self.interrupt: KeyboardInterrupt | None = None
+        self.drawing: Drawing | None = None  # what the painter draws
+        self.finale_asked = False
 
     def records(self) -> list[RunRecord]:
         return [self.results[s] for s in self.order if s in self.results]
@@ -241,17 +243,20 @@ class _Series:
             self.failed.add(key)
         elif isinstance(payload, _Spooled):
             self.results[key], self.paths[key] = payload.load(), payload.path
-            if self.painter is not None and self.interrupt is None:
-                self.painter.timeline(payload.path)
+            self._draw(payload.path)
             self.on_record(self.records())
 
-    def finale(self, drawing: Drawing) -> bool:
-        """Ask for the figure of every run when every run is in and none failed; whether it was asked for."""
-        complete = len(self.results) == len(self.order) and not self.failures and not self.workers.crashes
-        if self.painter is None or drawing.finale is None or not complete or self.interrupt is not None:
-            return False
-        self.painter.finale([self.paths[s] for s in self.order])
-        return True
+    def _draw(self, path: str) -> None:
+        """Ask for the timeline of the record at ``path``; with the last run's, once every run is in and
+        none failed, the figure of every run in the same message (:meth:`PlotWorker.last`: side by side)."""
+        if self.painter is None or self.interrupt is not None:
+            return
+        if (self.drawing is not None and self.drawing.finale is not None and not self.failures
+                and len(self.results) == len(self.order)):
+            self.painter.last(path, [self.paths[s] for s in self.order])
+            self.finale_asked = True
+        else:
+            self.painter.timeline(path)
 
     def finish_plots(self) -> None:
         """Wait for the plot worker (an interrupt meanwhile is passed on; a second one is raised)."""
@@ -270,27 +275,26 @@ def run_concurrently(strategies: Sequence[str], job: Job, records: list[RunRecor
     """Run ``strategies``, at most ``jobs`` at once; ``records`` gets their records in that order.
 
     ``plots`` (None: no plots) is drawn by ``plot_worker`` (started ahead; ``plots`` is then pickled
-    to it) or by one forked here: each run's timeline as its record arrives, the finale when every
-    run is in (:class:`Plots`); the plot worker is stopped on every way out.
+    to it) or by one forked here: each run's timeline as its record arrives, the finale with the last
+    one's when every run is in (:class:`Plots`); the plot worker is stopped on every way out.
     ``on_record(records so far, in order)`` after each run (``metrics.json``).
     ``records`` is filled on every way out; a failure (a run's or a plot's) is raised
     after every run is collected, and an interrupt that reached no run is raised on.
-    Returns whether ``plots.finale`` was drawn.
+    Returns whether ``plots.finale`` was asked for (a failure to draw it is raised).
     """
     spool = tempfile.TemporaryDirectory(prefix="crd-runs-")
     series = _Series(strategies, None, on_record)
-    finale = False
     try:
         try:
             series.start(job, jobs, spool.name, keep_frames)
             if plots is not None:  # after the run workers: they go first
                 series.painter = plot_worker or PlotWorker.start(plots)
                 series.painter.bind(plots)
+                series.drawing = plots
         except KeyboardInterrupt as exc:
             series.interrupted(exc)
         series.loop()
         if series.painter is not None:
-            finale = series.finale(plots)
             series.finish_plots()
     finally:
         series.workers.stop()
@@ -303,4 +307,4 @@ def run_concurrently(strategies: Sequence[str], job: Job, records: list[RunRecor
         raise failures[0]
     if series.interrupt is not None and not any(r.interrupted for r in records):
         raise series.interrupt
-    return finale
+    return series.finale_asked

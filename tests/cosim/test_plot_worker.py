@@ -62,8 +62,8 @@ def test_a_worker_started_ahead_draws_what_it_is_sent_and_the_last_two_side_by_s
         deadline = time.monotonic() + 30.0
         while not (tmp_path / "c.pid").exists() and time.monotonic() < deadline:
             time.sleep(0.02)
-        worker.timeline(d)  # the last run is in: its timeline and the finale, side by side
-        worker.finale([a, b, c, d])
+        time.sleep(0.3)  # the worker is idle (c drawn) when the last run comes in, as in crd paper
+        worker.last(d, [a, b, c, d])  # its timeline and the finale at once: drawn side by side
         worker.finish()
         assert worker.failures() == []
     finally:
