@@ -63,6 +63,7 @@ from ecu import EcuConfig
 from ..errors import EcuStallError, FmiStepError, interrupt_signal, signal_name
 from ..link.ecu_link import EcuOptions, open_link, run_key
 from ..results.events import merge_events
+from ..results.held_signals import SafePoints
 from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S, Scenario
 from ..world.driver_models import Pedals, make_driver
@@ -251,18 +252,22 @@ class ClosedLoop:
         k, cycle, applied = 0, 0, Actuation(0.0, 0.0)
         try:
             self.link.start()
-            while k < total_k:
-                t_s = k * self.h_s
-                out = self._cycle_out(t_s, cycle)
-                nxt = self._cycle_in(t_s, cycle, out, applied)
-                if self._ended(t_s, out.sample.speed_mps):
-                    break
-                k, collided = self._advance(k, applied, out.gap_m, out.sample.speed_mps)
-                applied, cycle = nxt, cycle + 1
-                if progress is not None and cycle % 100 == 0:
-                    progress(k * self.h_s, duration_s)
-                if collided:
-                    break
+            with SafePoints() as signals:  # a signal ends the run between two cycles, never within one
+                noted = signals.noted
+                while k < total_k:
+                    t_s = k * self.h_s
+                    out = self._cycle_out(t_s, cycle)
+                    nxt = self._cycle_in(t_s, cycle, out, applied)
+                    if self._ended(t_s, out.sample.speed_mps):
+                        break
+                    k, collided = self._advance(k, applied, out.gap_m, out.sample.speed_mps)
+                    applied, cycle = nxt, cycle + 1
+                    if progress is not None and cycle % 100 == 0:
+                        progress(k * self.h_s, duration_s)
+                    if collided:
+                        break
+                    if noted:
+                        signals.act()  # raises here (KeyboardInterrupt, below), with every cycle whole
             if not self.record.metrics.collided:
                 self._final(k * self.h_s)
         except FmiStepError as exc:
