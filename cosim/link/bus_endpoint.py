@@ -134,7 +134,7 @@ class BusEndpoint:
         while self.recv(_DRAIN_QUIET_S if first_frame_joins and self.keyed else 0.0) is not None:
             pass
         self.join_wait_s = time.monotonic() - started
-        if self.process is not None and not self.options.realtime:
+        if self.process is not None and self.options.spare and not self.options.realtime:
             prepare_spare()  # the next run's ECU starts up now, beside this run (never in real time: jitter)
 
     def recv(self, timeout: float, t_s: float = 0.0) -> can.Message | None:

@@ -109,6 +109,9 @@ class EcuOptions:
     #: False: E2E protection only (no SecOC), unless a key file is named
     authenticate: bool = True
     stall_timeout_s: float = DEFAULT_STALL_TIMEOUT_S  # lock-step: longest wait for one cycle's reply
+    #: lock-step with a spawned ECU: start the next run's ECU process once this run's has joined
+    #: (:func:`~cosim.link.ecu_process.prepare_spare`); False for a run that no other follows
+    spare: bool = True
 
     def __post_init__(self) -> None:
         if self.interface is None:

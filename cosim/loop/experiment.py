@@ -14,6 +14,7 @@ run, after each, and on every way out, including SIGINT/SIGTERM.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import functools
 import logging
 import signal
@@ -149,8 +150,8 @@ def _series_status(records: Sequence[RunRecord]) -> str:
 def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
                  records: list[RunRecord], out_dir: Path | None) -> bool:
     """One run after the other; stops after a run ended by a signal. False: no speed profiles drawn yet."""
-    for strategy in strategies:
-        record = run(strategy)
+    for i, strategy in enumerate(strategies):
+        record = run(strategy, last=i == len(strategies) - 1)
         records.append(record)
         if record.interrupted:
             break
@@ -227,8 +228,12 @@ def _interrupted(record: RunRecord, out_dir: Path | None) -> RunInterrupted:
 
 
 def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | None, logs: Sequence[str],
-             progress: Callable[[str], Progress] | None, ecu: EcuOptions | None, plot: bool = True) -> RunRecord:
-    """One strategy's run, its files streamed under ``out_dir/<strategy>/`` as it goes (``plot``: and its timeline)."""
+             progress: Callable[[str], Progress] | None, ecu: EcuOptions | None, plot: bool = True,
+             last: bool = False) -> RunRecord:
+    """One strategy's run, its files streamed under ``out_dir/<strategy>/`` as it goes (``plot``: and its
+    timeline; ``last``: no run follows it, so a spawned ECU gets no spare for the next one)."""
+    if last and ecu is not None and ecu.spare:
+        ecu = dataclasses.replace(ecu, spare=False)
     show = progress(strategy) if progress else None
     stream = RunStream(out_dir / strategy, logs, scenario.scenario.start_datetime) if out_dir is not None else None
     loop: ClosedLoop | None = None

@@ -86,3 +86,22 @@ def test_python_m_ecu_reports_an_error_in_one_line(tmp_path):
     assert out.returncode == 1 and out.stdout == ""
     assert out.stderr.startswith(f"error: {missing}: ") and len(out.stderr.splitlines()) == 1
 
+
+
+def test_the_last_run_of_a_series_starts_no_spare(plant_fmu3, monkeypatch):
+    """``crd run --ecu process`` (one run) starts no spare; in a series only the runs before the last do."""
+    import cosim.link.bus_endpoint as endpoint
+    from cosim.loop.experiment import run_strategies
+
+    sc = scenario_from_dict(SHORT)
+    discard_spare()
+    started = []
+    monkeypatch.setattr(endpoint, "prepare_spare", lambda: (started.append(True), prepare_spare()))
+    try:
+        run_strategies(sc, ["tightening"], None, ecu=EcuOptions(mode="process"))
+        assert started == [] and spare_pid() is None
+        records = run_strategies(sc, ["none", "tightening"], None, ecu=EcuOptions(mode="process"))
+        assert started == [True] and spare_pid() is None  # the first run's spare became the second's ECU
+        assert [r.error for r in records] == [None, None]
+    finally:
+        discard_spare()
