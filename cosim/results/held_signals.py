@@ -42,10 +42,11 @@ class SafePoints:
     caller calls :meth:`act` at a safe point (the end of a cycle) when :attr:`noted` is not empty.
 
     :meth:`act` restores the handlers from before the block and raises the first noted signal to
-    them: whatever they do (raise ``KeyboardInterrupt``, end the process, ignore it) happens there.
-    A second signal before that is acted on at once, wherever the loop is (it may be waiting on a
-    stalled ECU), as is one noted but not acted on when the block ends. Outside the main thread
-    (which alone receives signals in Python) this does nothing.
+    them (whatever they do, e.g. raise ``KeyboardInterrupt``, happens there); from then on signals
+    go to them directly. A second signal before that is acted on at once, wherever the loop is (it
+    may be waiting on a stalled ECU), as is one noted but not acted on when the block ends. Only a
+    signal with a handler set in Python is held (an ignored one stays ignored, a default one acts
+    at once); outside the main thread (which alone receives signals in Python) none is.
     """
 
     def __init__(self) -> None:
@@ -55,7 +56,7 @@ class SafePoints:
     def __enter__(self) -> SafePoints:
         if threading.current_thread() is threading.main_thread():
             for sig in _HELD:
-                if signal.getsignal(sig) is not None:  # None: a handler not set from Python, left alone
+                if callable(signal.getsignal(sig)):
                     self._previous[sig] = signal.signal(sig, self._note)
         return self
 
@@ -67,7 +68,9 @@ class SafePoints:
     def act(self) -> None:
         """Give the first noted signal to the handlers from before the block (restored now)."""
         self._restore()
-        signal.raise_signal(self.noted[0])
+        first = self.noted[0]
+        self.noted.clear()  # acted on (a handler that does not raise is not called again at the next point)
+        signal.raise_signal(first)
 
     def _restore(self) -> None:
         previous, self._previous = self._previous, {}

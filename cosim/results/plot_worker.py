@@ -9,8 +9,7 @@ runs take about 1 s. :class:`PlotWorker` moves all of it off the critical path:
 * **told what to draw** (:meth:`PlotWorker.bind`): a :class:`Drawing` (pickled, when the
   worker was started before it existed), then each run's record as it comes in
   (:meth:`timeline`: the path of the record's pickle, so the parent never waits on a
-  busy pipe) and, when every run is in, all of them (:meth:`finale`; with the last
-  run's timeline in one message: :meth:`last`);
+  busy pipe) and, with the last run's, all of them (:meth:`last`);
 * **two figures at once**: once every run is in (the finale is asked for), with two or
   more figures waiting (the last run's timeline and the finale) it forks a helper for
   one of them and draws the other itself: the helper shares matplotlib's pages with it
@@ -151,14 +150,11 @@ class PlotWorker:
         """Draw the timeline of the record pickled at ``record_path``."""
         self._conn.send((("timeline", record_path),))
 
-    def finale(self, record_paths: Sequence[str]) -> None:
-        """Draw the figure of every run (records pickled at ``record_paths``, in order)."""
-        self._conn.send((("finale", list(record_paths)),))
-
     def last(self, record_path: str, record_paths: Sequence[str]) -> None:
-        """:meth:`timeline` of the last run and :meth:`finale` in one message: the worker has both at once,
-        so it draws them side by side (sent one after the other, an idle worker would start on the
-        timeline alone, then draw the finale after it: 0.1 s more at the end of ``crd paper``)."""
+        """Draw the timeline of the last run's record (at ``record_path``) and the figure of every run
+        (records at ``record_paths``, in order), asked for in one message: the worker has both at once,
+        so it draws them side by side (asked one after the other, an idle worker started on the
+        timeline alone and drew the finale after it: 0.1 s more at the end of ``crd paper``)."""
         self._conn.send((("timeline", record_path), ("finale", list(record_paths))))
 
     def finish(self) -> None:

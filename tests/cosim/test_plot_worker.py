@@ -78,9 +78,9 @@ def test_a_failed_draw_is_reported_and_the_others_are_drawn(tmp_path):
     worker = PlotWorker.start(PidDrawing(tmp_path, fail="b"))
     try:
         paths = _spool(tmp_path, "a", "b", "c")
-        for path in paths:
+        for path in paths[:2]:
             worker.timeline(path)
-        worker.finale(paths)
+        worker.last(paths[2], paths)
         worker.finish()
         failures = worker.failures()
     finally:

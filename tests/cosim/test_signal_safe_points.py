@@ -63,3 +63,21 @@ def test_a_second_signal_or_the_end_of_the_block_acts_at_once():
         with SafePoints():
             signal.raise_signal(signal.SIGINT)  # noted, and the block ends before a safe point
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_an_ignored_signal_stays_ignored_and_a_handler_that_returns_is_called_once():
+    calls = []
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with SafePoints() as points:
+            signal.raise_signal(signal.SIGINT)
+            assert points.noted == []  # not held: ignored, as before the block
+        signal.signal(signal.SIGINT, lambda signum, frame: calls.append(signum))
+        with SafePoints() as points:
+            signal.raise_signal(signal.SIGINT)
+            for _ in range(3):  # three safe points: acted on at the first only
+                if points.noted:
+                    points.act()
+        assert calls == [signal.SIGINT]
+    finally:
+        signal.signal(signal.SIGINT, previous)
