@@ -77,8 +77,8 @@ class _Rx:
         self.times: deque[float] = deque(maxlen=26)
 
 
-def pack_sign(tx: _Tx, values: tuple, mac, out: list) -> None:
-    """Pack ``values`` (table order), set counter and CRC, build the frame and its authenticator."""
+def pack(tx: _Tx, values: tuple) -> bytearray:
+    """Pack ``values`` (table order) with range checks, set counter and CRC: the frame's 8 bytes."""
     payload = tx.counter << 8
     for (_, start, mask, scale, offset, raw_min, raw_max), value in zip(tx.table, values):
         raw = round((value - offset) / scale)
@@ -89,6 +89,12 @@ def pack_sign(tx: _Tx, values: tuple, mac, out: list) -> None:
     t = _TABLE
     d[0] = t[t[t[t[t[t[t[tx.seed ^ d[1]] ^ d[2]] ^ d[3]] ^ d[4]] ^ d[5]] ^ d[6]] ^ d[7]]
     tx.counter = (tx.counter + 1) % 15
+    return d
+
+
+def pack_sign(tx: _Tx, values: tuple, mac, out: list) -> None:
+    """:func:`pack` ``values``, then build the frame and its authenticator."""
+    d = pack(tx, values)
     cmac = mac()
     cmac.update(_MAC_INPUT(tx.fid, d, tx.fv))
     auth = bytearray((tx.fv & 0xFFFF).to_bytes(2, "little")) + cmac.finalize()[:6]
@@ -150,13 +156,14 @@ class LeanLoop:
         auth = {name: AUTHENTICATORS[name] for name in ("DriverInput", "WheelSpeeds", "ObjectTrack",
                                                                      "SafetyOverride")}
         self.tx = {name: _Tx(name, auth.get(name)) for name in ("DriverInput", "WheelSpeeds", "ObjectTrack")}
-        self.ecu_tx, self.ecu_status = _Tx("SafetyOverride", auth["SafetyOverride"]), LAYOUTS["EcuStatus"]
+        self.ecu_tx, self.ecu_status = _Tx("SafetyOverride", auth["SafetyOverride"]), _Tx("EcuStatus", None)
+        self.status_layout = LAYOUTS["EcuStatus"]  # the gateway's check of it
         self.ecu_rx = {auth[n]: _Rx(n) for n in ("WheelSpeeds", "DriverInput", "ObjectTrack")}
         self.held = {rx.fid: rx for rx in self.ecu_rx.values()}
         self.rows_rx = tuple(self.ecu_rx.values())  # WheelSpeeds, DriverInput, ObjectTrack
         self.rng, self.last_override_s = np.random.default_rng(sc.scenario.seed), 0.0
         self.gw_rx, self.gw_auth = _Rx("SafetyOverride"), auth["SafetyOverride"]
-        self.status_counter, self.strategy = 0, status_strategy
+        self.strategy = status_strategy
         self.to_ecu, self.to_master, self.frames, self.rows = deque(), deque(), [], []
         self.params, self.state = params, CoreState()
         self.latch = [(0.0, 0.0, 0.0, 0.0), 0.0, 0.0, False, 0.0, 0.0, 0.0, -1e9, -1e9, -1e9]
@@ -233,20 +240,10 @@ class LeanLoop:
 
     def _status(self, o) -> can.Message:
         """``EcuStatus`` (every 10th cycle): strategy, three clamped values and the 13 fault bits."""
-        layout = self.ecu_status
+        tx = self.ecu_status
         values = (self.strategy, min(1.0, max(0.0, o.proximity)), min(250.0, max(0.0, o.stopping_distance_m)),
                   min(100.0, max(0.0, o.speed_estimate_mps)), *((o.fault_flags >> b) & 1 for b in range(13)))
-        payload = self.status_counter << 8
-        for (_, start, mask, scale, offset, raw_min, raw_max), value in zip(layout.pack_table, values):
-            raw = round((value - offset) / scale)
-            if raw < raw_min or raw > raw_max:
-                raise ValueError(f"EcuStatus: {value} out of range")
-            payload |= (raw & mask) << start
-        d = bytearray(payload.to_bytes(8, "little"))
-        t = _TABLE
-        d[0] = t[t[t[t[t[t[t[layout.crc_seed ^ d[1]] ^ d[2]] ^ d[3]] ^ d[4]] ^ d[5]] ^ d[6]] ^ d[7]]
-        self.status_counter = (self.status_counter + 1) % 15
-        return _MSG(0.0, layout.frame_id, False, False, False, None, 8, d)
+        return _MSG(0.0, tx.fid, False, False, False, None, 8, pack(tx, values))
 
     def gateway_log(self, t_s: float, sample: tuple, sent: list, received: list) -> None:
         """The gateway takes the ECU's frames and computes the next actuation; the cycle is logged."""
@@ -264,7 +261,7 @@ class LeanLoop:
                     throttle = min(throttle, limit_pct / 100.0)
                 brake = min(1.0, max(brake, decel / 10.0))
             else:  # EcuStatus: CRC and counter checked, fault bits decoded (never set here)
-                _status_check(self.ecu_status, msg.data)
+                _status_check(self.status_layout, msg.data)
         if overrides > 1 or t_s - self.last_override_s > 0.1 or rx.score >= 5:  # second ECU, timeout, E2E
             throttle, brake = 1.0, 0.0
         self.actuation = (throttle, brake)
