@@ -201,7 +201,7 @@ def _typed(hint: Any, value: Any, where: str, declared: Declared) -> Any:
             raise SettingError(where, f"expected a table, got {value!r}")
         item = _plain(typing.get_args(hint)[1])
         return types.MappingProxyType({k: _typed(item, v, join(where, k), declared) for k, v in value.items()})
-    return check_value(declared, _scalar(hint, value, where), where)
+    return check_value(declared, _scalar(hint, value, where), where, shown=value)
 
 
 def _scalar(hint: Any, value: Any, where: str) -> Any:
@@ -225,17 +225,18 @@ def _scalar(hint: Any, value: Any, where: str) -> Any:
     raise SettingError(where, f"expected {' or '.join(_TYPE_TEXT[k] for k in allowed)}, got {value!r}")
 
 
-def check_value(declared: Declared, value: Any, where: str) -> Any:
-    """``value`` within the declared range or choices (the type is already right)."""
+def check_value(declared: Declared, value: Any, where: str, shown: Any = None) -> Any:
+    """``value`` within the declared range or choices (the type is already right; ``shown``: as given)."""
+    shown = value if shown is None else shown
     if declared.choices is not None and value not in declared.choices:
         near = near_miss(value, declared.choices) if isinstance(value, str) else None
         hint = f"; did you mean {near!r}?" if near else ""
-        raise SettingError(where, f"expected one of {list(declared.choices)}, got {value!r}{hint}")
+        raise SettingError(where, f"expected one of {list(declared.choices)}, got {shown!r}{hint}")
     if declared.range is not None and not isinstance(value, bool) and isinstance(value, (int, float)):
         low, high = declared.range
         above = value > low if declared.low_open else value >= low
         if not (above and value <= high and math.isfinite(value)):
-            raise SettingError(where, f"expected a value in {range_text(declared)}, got {value!r}")
+            raise SettingError(where, f"expected a value in {range_text(declared)}, got {shown!r}")
     return value
 
 

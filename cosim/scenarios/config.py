@@ -22,7 +22,8 @@ from ecu.settings import setting
 from .kinds import FMU_START_VALUES, POINTS, START_TIME, SignalMap, event_names, signal_maps
 
 OBJECT_TRACK_PERIOD_S = cycle_time_s("ObjectTrack")  # the contract's radar cycle (DBC GenMsgCycleTime 50 ms)
-#: the paper's three strategies; the DBC's ``VAL_`` adds our extension ``adaptive`` (issue 14).
+#: the paper's three strategies, the one list of them (``crd matrix``'s default, the runs the paper's
+#: claims need); the DBC's ``VAL_`` adds our extension ``adaptive`` (issue 14).
 PAPER_STRATEGIES = ("none", "conservative", "tightening")
 #: ``[scenario] start_time`` default: the start of 2020, UTC. A fixed date keeps the logs'
 #: headers deterministic; any date from 1990 on works (BLF treats earlier ones as unset).
@@ -88,7 +89,7 @@ class PlantConfig:
                                         "when the FMU has none")
     front_bumper_offset_m: float = setting(0.0, unit="m", range=(-10.0, 10.0),
                                            doc="the front bumper's position relative to the FMU's position "
-                                               "output (the builtin plant's x is the front bumper)")
+                                               "output (0: the builtin plant's x is its front bumper)")
     isolation: str = setting("auto", choices=("auto", "inprocess", "process"),
                              doc="where the FMU runs (cosim.world.plant.open_plant)")
     step_timeout_s: float = setting(5.0, unit="s", range=(0.01, 3600.0),
