@@ -29,7 +29,7 @@ from can_dbc.contract import ECU_CYCLE_S, cycle_time_s
 
 from . import settings
 from .core.params import CoreParams
-from .settings import SettingError, setting
+from .settings import Range, SettingError, setting
 
 #: EcuStatus is sent every this many ECU cycles (DBC: 100 ms / 10 ms)
 STATUS_PERIOD_CYCLES = round(cycle_time_s("EcuStatus") / ECU_CYCLE_S)
@@ -44,7 +44,7 @@ SECTION = "ecu"
 class EcuConfig(CoreParams):
     """Strategy, core parameters and node settings. Construct directly or via the loaders."""
 
-    status_period_cycles: int = setting(STATUS_PERIOD_CYCLES, unit="cycles", range=(1, 100_000),
+    status_period_cycles: int = setting(STATUS_PERIOD_CYCLES, unit="cycles", allowed=Range(1, 100_000),
                                         doc="EcuStatus is sent every this many cycles (DBC: 100 ms = 10 cycles)")
     sim_time: bool = setting(False, doc="one cycle per received SimClock frame instead of on the wall clock")
     key_file: str = setting("", doc="SecOC key file (32 hex digits, mode 0600; can_dbc.secoc); "

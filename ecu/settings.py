@@ -3,15 +3,16 @@
 Every configuration file of crd (a scenario, its ``[ecu]``, a standalone ECU
 file, a test catalogue, a sweep) is read into frozen dataclasses whose fields
 declare their keys once, next to the field, with :func:`setting`: type (the
-annotation), unit, range or choices, default and doc. :func:`load` builds a
-dataclass from a TOML table and checks it against those declarations; the
-reference pages are rendered from them (:func:`describe`).
+annotation), doc, unit, allowed values (a :class:`Range` or a tuple of
+choices), default. :func:`load` builds a dataclass from a TOML table and
+checks it against those declarations; reference pages are rendered from them
+(:func:`keys`, :func:`walk`; :mod:`cosim.scenarios.reference`).
 
 What :func:`load` does with a field follows from its annotation alone:
 
 * ``float``, ``int``, ``bool``, ``str`` (optionally ``| None``): a scalar of that
   type (a TOML integer is accepted for a float, nothing else is coerced; floats
-  must be finite), within the declared ``range`` or one of ``choices``;
+  must be finite), within the declared :class:`Range` or one of the choices;
 * a union of scalar types (``int | float | bool | str``): any one of them;
 * a dataclass: a nested table, loaded by the same rules;
 * ``tuple[X, ...]``: a list of X (a list of tables for a dataclass X);
@@ -68,23 +69,40 @@ class Kind:
 
 
 @dataclass(frozen=True)
+class Range:
+    """The allowed interval of a number: ``[low, high]``, or ``(low, high]`` with ``low_open``."""
+
+    low: float
+    high: float
+    low_open: bool = False
+
+    def __contains__(self, value: float) -> bool:
+        above = value > self.low if self.low_open else value >= self.low
+        return above and value <= self.high and math.isfinite(value)
+
+    def __str__(self) -> str:
+        num = lambda x: repr(x) if isinstance(x, int) else f"{x:g}"  # noqa: E731
+        return (f"{'(' if self.low_open else '['}{num(self.low)}, {num(self.high)}"
+                f"{')' if self.high == math.inf else ']'}")
+
+
+@dataclass(frozen=True)
 class Declared:
     """What :func:`setting` records in a field's metadata."""
 
-    unit: str = ""
-    range: tuple[float, float] | None = None
-    low_open: bool = False
-    choices: tuple | None = None
     doc: str = ""
+    unit: str = ""
+    range: Range | None = None
+    choices: tuple | None = None
     kind: Kind | None = None
 
 
-def setting(default: Any = MISSING, *, unit: str = "", range: tuple[float, float] | None = None,
-            low_open: bool = False, choices: Iterable | None = None, doc: str = "", kind: Kind | None = None,
-            default_factory: Any = MISSING) -> Any:
-    """A dataclass field declaring one key: ``range`` is closed (``low_open``: ``(low, high]``)."""
-    declared = Declared(unit, range, low_open, tuple(choices) if choices is not None else None, doc, kind)
-    return dataclasses.field(default=default, default_factory=default_factory, metadata={"setting": declared})
+def setting(default: Any = MISSING, *, doc: str = "", unit: str = "", allowed: Range | Iterable | None = None,
+            kind: Kind | None = None, factory: Any = MISSING) -> Any:
+    """A dataclass field declaring one key: ``allowed`` is a :class:`Range` or the tuple of choices."""
+    choices = None if allowed is None or isinstance(allowed, Range) else tuple(allowed)
+    declared = Declared(doc, unit, allowed if isinstance(allowed, Range) else None, choices, kind)
+    return dataclasses.field(default=default, default_factory=factory, metadata={"setting": declared})
 
 
 @dataclass(frozen=True)
@@ -233,9 +251,7 @@ def check_value(declared: Declared, value: Any, where: str, shown: Any = None) -
         hint = f"; did you mean {near!r}?" if near else ""
         raise SettingError(where, f"expected one of {list(declared.choices)}, got {shown!r}{hint}")
     if declared.range is not None and not isinstance(value, bool) and isinstance(value, (int, float)):
-        low, high = declared.range
-        above = value > low if declared.low_open else value >= low
-        if not (above and value <= high and math.isfinite(value)):
+        if value not in declared.range:
             raise SettingError(where, f"expected a value in {range_text(declared)}, got {shown!r}")
     return value
 
@@ -252,17 +268,11 @@ def check(obj: Any, where: str = "") -> None:
 _TYPE_TEXT = {bool: "true or false", int: "an integer", float: "a number", str: "a string", Any: "any value"}
 
 
-def _number_text(x: float) -> str:
-    return repr(x) if isinstance(x, int) else f"{x:g}"
-
-
 def range_text(declared: Declared) -> str:
     """``[0, 1]`` or ``(0, 15] m/s^2``."""
     if declared.range is None:
         return ""
-    low, high = declared.range
-    text = f"{'(' if declared.low_open else '['}{_number_text(low)}, {_number_text(high)}{')' if high == math.inf else ']'}"
-    return f"{text} {declared.unit}" if declared.unit else text
+    return f"{declared.range} {declared.unit}" if declared.unit else str(declared.range)
 
 
 def type_text(key: Key) -> str:

@@ -32,7 +32,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
-from ecu.settings import Kind, SettingError, keys, load, load_toml, setting, unknown_key, value_of
+from ecu.settings import Kind, Range, SettingError, keys, load, load_toml, setting, unknown_key, value_of
 
 from ..errors import ConfigError
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S
@@ -52,33 +52,33 @@ class CellKeys:
     """
 
     group: str = setting(doc="the cells' group; a cell's id is <group>-<ego speed>")
-    ego_speed_kmh: float = setting(unit="km/h", range=(0.0, 300.0), doc="the ego's test speed (a list: one cell each)")
+    ego_speed_kmh: float = setting(unit="km/h", allowed=Range(0.0, 300.0), doc="the ego's test speed (a list: one cell each)")
     target: str = setting(doc="a name of [targets]")
     source: str = setting(doc="the key(s) of [sources] the series cites, joined by +")
-    target_speed_kmh: float = setting(0.0, unit="km/h", range=(0.0, 300.0), doc="the target's speed")
-    lateral_m: float = setting(0.0, unit="m", range=(-20.0, 20.0),
+    target_speed_kmh: float = setting(0.0, unit="km/h", allowed=Range(0.0, 300.0), doc="the target's speed")
+    lateral_m: float = setting(0.0, unit="m", allowed=Range(-20.0, 20.0),
                                doc="the target's centre offset across the path, left positive")
-    gap_m: float | None = setting(None, unit="m", range=(0.0, 1e4), doc="start gap (the target's rear ahead of "
+    gap_m: float | None = setting(None, unit="m", allowed=Range(0.0, 1e4), doc="start gap (the target's rear ahead of "
                                   "the ego's front bumper); else headway_s, else from start_ttc_s")
-    headway_s: float | None = setting(None, unit="s", range=(0.0, 100.0), doc="start gap = headway_s * ego speed")
-    start_ttc_s: float = setting(4.0, unit="s", range=(0.0, 100.0), doc="TTC at the start of the test, after settle_s")
-    settle_s: float = setting(2.0, unit="s", range=(0.0, 100.0),
+    headway_s: float | None = setting(None, unit="s", allowed=Range(0.0, 100.0), doc="start gap = headway_s * ego speed")
+    start_ttc_s: float = setting(4.0, unit="s", allowed=Range(0.0, 100.0), doc="TTC at the start of the test, after settle_s")
+    settle_s: float = setting(2.0, unit="s", allowed=Range(0.0, 100.0),
                               doc="steady approach before the test starts (R152: at least 2 s)")
-    brake_decel_mps2: float = setting(0.0, unit="m/s^2", range=(0.0, 15.0), doc="the target brakes (0: never)")
-    brake_ramp_s: float = setting(0.0, unit="s", range=(0.0, 10.0), doc="... reaching it within this")
-    brake_to_speed_kmh: float = setting(0.0, unit="km/h", range=(0.0, 300.0), doc="... down to this")
-    brake_at_s: float = setting(0.0, unit="s", range=(0.0, 3600.0), doc="... starting this long after settle_s")
-    lateral_end_m: float | None = setting(None, unit="m", range=(-20.0, 20.0), doc="the target moves across to this")
-    lateral_speed_mps: float | None = setting(None, unit="m/s", range=(0.0, 10.0), doc="... at this speed")
-    lateral_at_gap_m: float | None = setting(None, unit="m", range=(0.0, 1e4), doc="... once the gap falls to this")
-    road_friction: float = setting(1.0, range=(0.0, 1.5), doc="road friction coefficient")
-    max_impact_kmh: float | None = setting(None, unit="km/h", range=(0.0, 300.0),
+    brake_decel_mps2: float = setting(0.0, unit="m/s^2", allowed=Range(0.0, 15.0), doc="the target brakes (0: never)")
+    brake_ramp_s: float = setting(0.0, unit="s", allowed=Range(0.0, 10.0), doc="... reaching it within this")
+    brake_to_speed_kmh: float = setting(0.0, unit="km/h", allowed=Range(0.0, 300.0), doc="... down to this")
+    brake_at_s: float = setting(0.0, unit="s", allowed=Range(0.0, 3600.0), doc="... starting this long after settle_s")
+    lateral_end_m: float | None = setting(None, unit="m", allowed=Range(-20.0, 20.0), doc="the target moves across to this")
+    lateral_speed_mps: float | None = setting(None, unit="m/s", allowed=Range(0.0, 10.0), doc="... at this speed")
+    lateral_at_gap_m: float | None = setting(None, unit="m", allowed=Range(0.0, 1e4), doc="... once the gap falls to this")
+    road_friction: float = setting(1.0, allowed=Range(0.0, 1.5), doc="road friction coefficient")
+    max_impact_kmh: float | None = setting(None, unit="km/h", allowed=Range(0.0, 300.0),
                                            doc="r152: the highest allowed relative impact speed (0: no contact)")
     require_no_contact: bool | None = setting(None, doc="ncap: the cell must be green")
     extended: bool | None = setting(None, doc="ncap: an extended-range cell (scores 1.0 unless red)")
-    duration_s: float | None = setting(None, unit="s", range=(0.0, 3600.0), low_open=True,
+    duration_s: float | None = setting(None, unit="s", allowed=Range(0.0, 3600.0, low_open=True),
                                        doc="default: time to close the gap, stop, plus 3 s")
-    end: str | None = setting(None, choices=ENDS, doc="how the run ends (default: standstill for a standing "
+    end: str | None = setting(None, allowed=ENDS, doc="how the run ends (default: standstill for a standing "
                               "target, matched_speed for a moving one)")
     driver_release: bool = setting(True, doc="the robot releases the accelerator after a 5 km/h drop")
     note: str | None = setting(None, doc="free text")
@@ -103,7 +103,7 @@ def _partial_scenario(value: Any, where: str) -> Mapping[str, Any]:
 class CatalogueHead:
     """``[catalogue]``: what the catalogue is and how it is scored."""
 
-    scoring: str = setting(choices=tuple(SCORINGS), doc="the protocol's scoring (cosim.matrix.scorings)")
+    scoring: str = setting(allowed=tuple(SCORINGS), doc="the protocol's scoring (cosim.matrix.scorings)")
     title: str = setting("", doc="the report's heading (default: the file's stem)")
 
 
@@ -111,8 +111,8 @@ class CatalogueHead:
 class Target:
     """``[targets.<name>]``: a target's body."""
 
-    length_m: float = setting(unit="m", range=(0.0, 50.0), low_open=True, doc="length along the path")
-    width_m: float = setting(unit="m", range=(0.0, 10.0), low_open=True, doc="width across the path")
+    length_m: float = setting(unit="m", allowed=Range(0.0, 50.0, low_open=True), doc="length along the path")
+    width_m: float = setting(unit="m", allowed=Range(0.0, 10.0, low_open=True), doc="width across the path")
     source: str = setting(doc="the key(s) of [sources] the dimensions cite, joined by +")
 
 
@@ -124,9 +124,9 @@ class CatalogueFile:
     sources: Mapping[str, str] = setting(doc="source key = the document, its version and clause")
     targets: Mapping[str, Target] = setting(doc="the targets by name")
     series: tuple[Mapping[str, Any], ...] = setting(doc="the cells (see CellKeys)")
-    scenario: Mapping[str, Any] = setting(default_factory=dict, doc="a partial scenario every cell starts from",
+    scenario: Mapping[str, Any] = setting(factory=dict, doc="a partial scenario every cell starts from",
                                           kind=Kind("partial scenario (scenario file tables)", _partial_scenario))
-    scoring: Mapping[str, Any] = setting(default_factory=dict, doc="the scoring's own table (its declared keys)")
+    scoring: Mapping[str, Any] = setting(factory=dict, doc="the scoring's own table (its declared keys)")
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from typing import Mapping
 
 from can_dbc.contract import ECU_CYCLE_S, STRATEGIES, cycle_time_s, timeout_s  # STRATEGIES: for importers
 from ecu.config import EcuConfig
-from ecu.settings import setting
+from ecu.settings import Range, setting
 
 from .kinds import FMU_START_VALUES, POINTS, START_TIME, SignalMap, event_names, signal_maps
 
@@ -35,11 +35,11 @@ class ScenarioSection:
     """``[scenario]``: name, simulated duration, plant step, seed, start time."""
 
     name: str = setting("scenario", doc="the scenario's name (reports, plots)")
-    duration_s: float = setting(30.0, unit="s", range=(0.01, 3600.0),
+    duration_s: float = setting(30.0, unit="s", allowed=Range(0.01, 3600.0),
                                 doc="simulated time; the run ends here unless contact or [end] ends it first")
-    step_s: float = setting(0.001, unit="s", range=(1e-4, ECU_CYCLE_S),
+    step_s: float = setting(0.001, unit="s", allowed=Range(1e-4, ECU_CYCLE_S),
                             doc=f"plant step; must divide the {ECU_CYCLE_S} s ECU cycle")
-    seed: int = setting(0, range=(0, 2**63 - 1), doc="seeds every random source of the run (radar noise, dropouts)")
+    seed: int = setting(0, allowed=Range(0, 2**63 - 1), doc="seeds every random source of the run (radar noise, dropouts)")
     start_time: str = setting(DEFAULT_START_TIME, kind=START_TIME,
                               doc="absolute time of t = 0 (ISO 8601 with a UTC offset, or a TOML offset "
                                   "date-time); the CAN logs' headers carry it (cosim.results.can_logs)")
@@ -82,32 +82,32 @@ class PlantConfig:
 
     fmu: str = setting("builtin", doc="\"builtin\" (our plant, fmu_plant/) or the path of an FMU, "
                                       "relative to the scenario file")
-    fmi_version: int = setting(3, choices=(2, 3), doc="FMI version of the builtin plant's build")
-    road_friction: float = setting(1.0, range=(0.0, 1.5), doc="road friction coefficient (1.0: dry asphalt)")
-    wheel_radius_m: float = setting(0.31, unit="m", range=(0.05, 2.0),
+    fmi_version: int = setting(3, allowed=(2, 3), doc="FMI version of the builtin plant's build")
+    road_friction: float = setting(1.0, allowed=Range(0.0, 1.5), doc="road friction coefficient (1.0: dry asphalt)")
+    wheel_radius_m: float = setting(0.31, unit="m", allowed=Range(0.05, 2.0),
                                     doc="converts wheel speeds (rad/s -> m/s); derives them from the speed "
                                         "when the FMU has none")
-    front_bumper_offset_m: float = setting(0.0, unit="m", range=(-10.0, 10.0),
+    front_bumper_offset_m: float = setting(0.0, unit="m", allowed=Range(-10.0, 10.0),
                                            doc="the front bumper's position relative to the FMU's position "
                                                "output (0: the builtin plant's x is its front bumper)")
-    isolation: str = setting("auto", choices=("auto", "inprocess", "process"),
+    isolation: str = setting("auto", allowed=("auto", "inprocess", "process"),
                              doc="where the FMU runs (cosim.world.plant.open_plant)")
-    step_timeout_s: float = setting(5.0, unit="s", range=(0.01, 3600.0),
+    step_timeout_s: float = setting(5.0, unit="s", allowed=Range(0.01, 3600.0),
                                     doc="with isolation = \"process\": the longest any FMU call may take before "
                                         "the run stops with an error naming the time")
-    accel_gain_mps2: float = setting(3.0, unit="m/s^2", range=(0.0, 20.0),
+    accel_gain_mps2: float = setting(3.0, unit="m/s^2", allowed=Range(0.0, 20.0),
                                      doc="an accel_command FMU gets throttle * accel_gain_mps2 - brake * "
                                          "brake_gain_mps2")
-    brake_gain_mps2: float = setting(9.0, unit="m/s^2", range=(0.0, 20.0), doc="see accel_gain_mps2")
-    initial_speed_mps: float = setting(0.0, unit="m/s", range=(0.0, 80.0),
+    brake_gain_mps2: float = setting(9.0, unit="m/s^2", allowed=Range(0.0, 20.0), doc="see accel_gain_mps2")
+    initial_speed_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 80.0),
                                        doc="speed at t = 0, set through the [plant.initial] speed parameter "
                                            "(builtin: v0); 0 leaves the FMU's own start value")
-    length_m: float = setting(4.358, unit="m", range=(0.5, 30.0),
+    length_m: float = setting(4.358, unit="m", allowed=Range(0.5, 30.0),
                               doc="body length for contact (Euro NCAP's reference VUT: 4.358 x 1.815 m)")
-    width_m: float = setting(1.815, unit="m", range=(0.5, 5.0),
+    width_m: float = setting(1.815, unit="m", allowed=Range(0.5, 5.0),
                              doc="body width; contact needs longitudinal AND lateral overlap")
     parameters: Mapping[str, bool | int | float | str] = setting(
-        default_factory=lambda: MappingProxyType({}), kind=FMU_START_VALUES,
+        factory=lambda: MappingProxyType({}), kind=FMU_START_VALUES,
         doc="FMU start values by parameter name (the FMU defines the names; checked against its model "
             "description when the plant opens), e.g. brake_dead_time = 0.15")
     inputs: tuple[SignalMap, ...] = setting(BUILTIN_INPUTS, kind=signal_maps(INPUT_ROLES),
@@ -133,19 +133,19 @@ class DriverConfig:
     read it. Equations: :mod:`cosim.world.driver_models`.
     """
 
-    model: str = setting("full_throttle", choices=("full_throttle", "cruise", "scripted", "hold_speed"),
+    model: str = setting("full_throttle", allowed=("full_throttle", "cruise", "scripted", "hold_speed"),
                          doc="the driver model (see Driver models)")
-    accel_pedal_pct: float = setting(100.0, unit="%", range=(0.0, 100.0),
+    accel_pedal_pct: float = setting(100.0, unit="%", allowed=Range(0.0, 100.0),
                                      doc="full_throttle: the accelerator pedal, held whatever happens")
-    set_speed_mps: float = setting(20.0, unit="m/s", range=(0.0, 80.0), doc="cruise, hold_speed: the speed held")
-    gain_pct_per_mps: float = setting(20.0, unit="%/(m/s)", range=(0.0, 1000.0),
+    set_speed_mps: float = setting(20.0, unit="m/s", allowed=Range(0.0, 80.0), doc="cruise, hold_speed: the speed held")
+    gain_pct_per_mps: float = setting(20.0, unit="%/(m/s)", allowed=Range(0.0, 1000.0),
                                       doc="cruise, hold_speed: proportional gain on the speed error")
-    integral_gain_pct_per_m: float = setting(10.0, unit="%/m", range=(0.0, 1000.0),
+    integral_gain_pct_per_m: float = setting(10.0, unit="%/m", allowed=Range(0.0, 1000.0),
                                              doc="hold_speed: integral gain on the accumulated speed error")
-    release_drop_mps: float = setting(0.0, unit="m/s", range=(0.0, 80.0),
+    release_drop_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 80.0),
                                       doc="hold_speed: release the accelerator for good once the speed is this "
                                           "far below the set speed (Euro NCAP robot: 5 km/h); 0 = never")
-    over: str = setting("time", choices=("time", "position"),
+    over: str = setting("time", allowed=("time", "position"),
                         doc="scripted: the breakpoints' abscissa, time (s) or position (m)")
     points: tuple[tuple[float, float, float], ...] = setting(
         (), kind=POINTS, doc="scripted: rows [at, accel_pct, brake_pct], linearly interpolated, held at the ends")
@@ -173,23 +173,23 @@ class ObjectConfig:
 
     enabled: bool = setting(True, doc="false: no object (an empty road)")
     name: str = setting("object", doc="the object's name (reports, events)")
-    position_m: float = setting(225.0, unit="m", range=(-1e5, 1e5),
+    position_m: float = setting(225.0, unit="m", allowed=Range(-1e5, 1e5),
                                 doc="the object's rear at t = 0, along the path (see above)")
-    speed_mps: float = setting(0.0, unit="m/s", range=(-80.0, 80.0), doc="speed along the path")
-    length_m: float = setting(1.8, unit="m", range=(0.0, 50.0), doc="length along the path")
-    width_m: float = setting(0.6, unit="m", range=(0.0, 10.0), doc="width across the path")
-    lateral_m: float = setting(0.0, unit="m", range=(-20.0, 20.0),
+    speed_mps: float = setting(0.0, unit="m/s", allowed=Range(-80.0, 80.0), doc="speed along the path")
+    length_m: float = setting(1.8, unit="m", allowed=Range(0.0, 50.0), doc="length along the path")
+    width_m: float = setting(0.6, unit="m", allowed=Range(0.0, 10.0), doc="width across the path")
+    lateral_m: float = setting(0.0, unit="m", allowed=Range(-20.0, 20.0),
                                doc="centre's offset across the path, left positive")
-    brake_decel_mps2: float = setting(0.0, unit="m/s^2", range=(0.0, 15.0), doc="braking; 0 = never brakes")
-    brake_ramp_s: float = setting(0.0, unit="s", range=(0.0, 10.0), doc="time to reach brake_decel_mps2")
-    brake_to_speed_mps: float = setting(0.0, unit="m/s", range=(0.0, 80.0), doc="braking ends at this speed")
-    brake_at_s: float | None = setting(None, unit="s", range=(0.0, 3600.0), doc="braking starts at this time")
-    brake_at_gap_m: float | None = setting(None, unit="m", range=(0.0, 1e4),
+    brake_decel_mps2: float = setting(0.0, unit="m/s^2", allowed=Range(0.0, 15.0), doc="braking; 0 = never brakes")
+    brake_ramp_s: float = setting(0.0, unit="s", allowed=Range(0.0, 10.0), doc="time to reach brake_decel_mps2")
+    brake_to_speed_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 80.0), doc="braking ends at this speed")
+    brake_at_s: float | None = setting(None, unit="s", allowed=Range(0.0, 3600.0), doc="braking starts at this time")
+    brake_at_gap_m: float | None = setting(None, unit="m", allowed=Range(0.0, 1e4),
                                            doc="... or once the ego's gap first falls to this")
-    lateral_speed_mps: float = setting(0.0, unit="m/s", range=(0.0, 10.0), doc="lateral speed toward lateral_end_m")
-    lateral_end_m: float | None = setting(None, unit="m", range=(-20.0, 20.0), doc="lateral motion ends here")
-    lateral_at_s: float | None = setting(None, unit="s", range=(0.0, 3600.0), doc="lateral motion starts at this time")
-    lateral_at_gap_m: float | None = setting(None, unit="m", range=(0.0, 1e4),
+    lateral_speed_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 10.0), doc="lateral speed toward lateral_end_m")
+    lateral_end_m: float | None = setting(None, unit="m", allowed=Range(-20.0, 20.0), doc="lateral motion ends here")
+    lateral_at_s: float | None = setting(None, unit="s", allowed=Range(0.0, 3600.0), doc="lateral motion starts at this time")
+    lateral_at_gap_m: float | None = setting(None, unit="m", allowed=Range(0.0, 1e4),
                                              doc="... or once the ego's gap first falls to this")
 
 
@@ -202,15 +202,15 @@ class RadarConfig:
     reports ``ObjectValid = 0``.
     """
 
-    latency_s: float = setting(0.0, unit="s", range=(0.0, 1.0),
+    latency_s: float = setting(0.0, unit="s", allowed=Range(0.0, 1.0),
                                doc="measurement-to-bus latency, rounded to whole ECU cycles")
-    range_noise_std_m: float = setting(0.0, unit="m", range=(0.0, 10.0), doc="standard deviation of range noise")
-    range_rate_noise_std_mps: float = setting(0.0, unit="m/s", range=(0.0, 10.0),
+    range_noise_std_m: float = setting(0.0, unit="m", allowed=Range(0.0, 10.0), doc="standard deviation of range noise")
+    range_rate_noise_std_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 10.0),
                                               doc="standard deviation of range-rate noise")
-    max_range_m: float = setting(200.0, unit="m", range=(1.0, 250.0), doc="objects beyond are not reported")
-    dropout_probability: float = setting(0.0, range=(0.0, 1.0), doc="probability per update of no track")
+    max_range_m: float = setting(200.0, unit="m", allowed=Range(1.0, 250.0), doc="objects beyond are not reported")
+    dropout_probability: float = setting(0.0, allowed=Range(0.0, 1.0), doc="probability per update of no track")
     field_of_view_deg: float = setting(
-        90.0, unit="deg", range=(1.0, 180.0),
+        90.0, unit="deg", allowed=Range(1.0, 180.0),
         doc="full horizontal field of view; an object whose nearest rear corner is outside ±fov/2 of the "
             "bore sight is not seen (default ±45°: the near-range beam of a mid-range automotive radar)")
 
@@ -220,11 +220,11 @@ class GatewayConfig:
     """``[gateway]``: the brake/powertrain ECU that applies ``SafetyOverride``."""
 
     brake_full_decel_mps2: float = setting(
-        12.0, unit="m/s^2", range=(1.0, 30.0),
+        12.0, unit="m/s^2", allowed=Range(1.0, 30.0),
         doc="maps the ECU's deceleration request to a brake command: brake = min(1, request / this); "
             "default: the builtin plant's max_brake_force / mass = 18000 N / 1500 kg")
     override_timeout_s: float = setting(
-        timeout_s("SafetyOverride"), unit="s", range=(ECU_CYCLE_S, 1.0),
+        timeout_s("SafetyOverride"), unit="s", allowed=Range(ECU_CYCLE_S, 1.0),
         doc="silence (or an invalid E2E score) longer than this falls back to the driver's commands alone")
 
 
@@ -238,11 +238,11 @@ class ChecksConfig:
     """``[checks]``: expectations on the run's metrics; unset = not checked."""
 
     no_collision: bool | None = setting(None, doc="the run must (true) or must not (false) end without contact")
-    min_gap_m: float | None = setting(None, unit="m", range=(-1e5, 1e5), doc="the closest gap must stay above")
-    max_impact_speed_mps: float | None = setting(None, unit="m/s", range=(0.0, 200.0),
+    min_gap_m: float | None = setting(None, unit="m", allowed=Range(-1e5, 1e5), doc="the closest gap must stay above")
+    max_impact_speed_mps: float | None = setting(None, unit="m/s", allowed=Range(0.0, 200.0),
                                                  doc="highest allowed relative impact speed")
-    min_contingency_invocations: int | None = setting(None, range=(0, 10**6), doc="at least this many contingencies")
-    max_contingency_invocations: int | None = setting(None, range=(0, 10**6), doc="at most this many contingencies")
+    min_contingency_invocations: int | None = setting(None, allowed=Range(0, 10**6), doc="at least this many contingencies")
+    max_contingency_invocations: int | None = setting(None, allowed=Range(0, 10**6), doc="at most this many contingencies")
     expect_events: tuple[str, ...] = setting(
         (), kind=event_names(EXPECTABLE_EVENTS),
         doc="fault events this scenario provokes on purpose (e.g. [\"ecu_lost\"]): each must occur (else the "
@@ -258,8 +258,8 @@ class EndConfig:
     matched_speed: bool = setting(False, doc="end once the ego's speed falls to that of the nearest object ahead "
                                              "in its path after having been matched_speed_margin_mps above it "
                                              "(Euro NCAP's end of a longitudinal test)")
-    standstill_speed_mps: float = setting(0.01, unit="m/s", range=(0.0, 5.0), doc="see standstill")
-    matched_speed_margin_mps: float = setting(0.5, unit="m/s", range=(0.0, 10.0), doc="see matched_speed")
+    standstill_speed_mps: float = setting(0.01, unit="m/s", allowed=Range(0.0, 5.0), doc="see standstill")
+    matched_speed_margin_mps: float = setting(0.5, unit="m/s", allowed=Range(0.0, 10.0), doc="see matched_speed")
 
 
 @dataclass(frozen=True)

@@ -60,11 +60,7 @@ def _cell(text: str) -> str:
 def _allowed(declared: Declared) -> str:
     if declared.choices is not None:
         return ", ".join(f"`{json.dumps(c)}`" for c in declared.choices)
-    if declared.range is None:
-        return ""
-    low, high = declared.range
-    num = lambda x: repr(x) if isinstance(x, int) else f"{x:g}"  # noqa: E731
-    return f"{'(' if declared.low_open else '['}{num(low)}, {num(high)}{')' if high == float('inf') else ']'}"
+    return "" if declared.range is None else str(declared.range)
 
 
 def _default(key: Key) -> str:

@@ -46,7 +46,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
-from ecu.settings import Kind, SettingError, load, load_toml, setting
+from ecu.settings import Kind, Range, SettingError, load, load_toml, setting
 
 from ..errors import ConfigError
 
@@ -82,12 +82,12 @@ class SweepSection:
     scenario: str = setting(doc="the base scenario: a bundled scenario name, or a path relative to this file")
     name: str = setting("", doc="the sweep's name (default: the file's stem)")
     description: str = setting("", doc="one line for `crd sweep --list`")
-    mode: str = setting("grid", choices=MODES, doc="grid: every combination; monte_carlo: samples of the "
+    mode: str = setting("grid", allowed=MODES, doc="grid: every combination; monte_carlo: samples of the "
                         "distribution axes (crossed with the list axes); one_at_a_time: each axis alone")
-    seed: int = setting(0, range=_SEED_RANGE, doc="the per-run seeds derive from this and each run's key")
-    samples: int | None = setting(None, range=(1, _SEED_RANGE[1]), doc="monte_carlo: number of samples")
+    seed: int = setting(0, allowed=Range(*_SEED_RANGE), doc="the per-run seeds derive from this and each run's key")
+    samples: int | None = setting(None, allowed=Range(1, _SEED_RANGE[1]), doc="monte_carlo: number of samples")
     latin_hypercube: bool = setting(False, doc="monte_carlo: stratify the samples (one per 1/N stratum per axis)")
-    replicates: int = setting(1, range=(1, _SEED_RANGE[1]), doc="runs per combination, each with its own seed")
+    replicates: int = setting(1, allowed=Range(1, _SEED_RANGE[1]), doc="runs per combination, each with its own seed")
 
 
 @dataclass(frozen=True)
@@ -99,14 +99,14 @@ class AxisTable:
     start: int | float | None = setting(None, doc="a range: start + k * step, k = 0, 1, ... up to stop (inclusive)")
     stop: int | float | None = setting(None, doc="see start")
     step: int | float | None = setting(None, doc="see start")
-    distribution: str | None = setting(None, choices=tuple(DISTRIBUTIONS),
+    distribution: str | None = setting(None, allowed=tuple(DISTRIBUTIONS),
                                        doc="uniform (low, high), normal (mean, std), truncated_normal (mean, std, "
                                            "low, high) or choice (values, optional weights)")
     low: float | None = setting(None, doc="distribution parameter")
     high: float | None = setting(None, doc="distribution parameter")
     mean: float | None = setting(None, doc="distribution parameter")
-    std: float | None = setting(None, range=(0.0, math.inf), low_open=True, doc="distribution parameter")
-    weights: tuple[float, ...] = setting((), range=(0.0, math.inf), doc="choice: one non-negative weight per value")
+    std: float | None = setting(None, allowed=Range(0.0, math.inf, low_open=True), doc="distribution parameter")
+    weights: tuple[float, ...] = setting((), allowed=Range(0.0, math.inf), doc="choice: one non-negative weight per value")
     cross: bool = setting(False, doc="one_at_a_time: cross this axis with every run instead of varying it alone")
 
 

@@ -165,3 +165,16 @@ def test_cell_values_are_type_checked(tmp_path):
                     'max_impact_kmh = 0\ntarget = "car"\nsource = "x"\n')
     with pytest.raises(ConfigError, match=r"bad.toml: series\[0\].ego_speed_kmh\[1\]: expected a value in \[0, 300\] km/h, got -5$"):
         load_catalogue(path)
+
+
+def test_scorings_are_a_registry_and_an_unknown_name_is_an_error():
+    from cosim.errors import ConfigError as Error
+    from cosim.matrix.catalogue import CatalogueHead
+    from cosim.matrix.scorings import SCORINGS
+    from ecu.settings import keys
+
+    assert all(name == s.name for name, s in SCORINGS.items())
+    assert keys(CatalogueHead)["scoring"].declared.choices == tuple(SCORINGS)  # the catalogue key offers the table
+    assert {load_catalogue(n).scoring for n in bundled()} == set(SCORINGS)  # every scoring is used
+    with pytest.raises(Error, match=r"^catalogue\.scoring: expected one of \[.*\], got 'folow'; did you mean 'follow'\?$"):
+        score_cell("folow", {}, outcome(low=3.0))  # once fell through to follow's rule

@@ -93,3 +93,27 @@ def test_bad_start_time_names_the_key(toml, fragment):
     with pytest.raises(ConfigError) as err:
         scenario_from_dict(tomllib.loads("[scenario]\n" + toml + "\n"))
     assert str(err.value).startswith("scenario.start_time: expected") and fragment in str(err.value)
+
+
+def test_ecu_and_plant_nest_the_same_way():
+    """[ecu] holds EcuConfig's keys directly, like every section; [plant.parameters] is one declared table."""
+    from ecu import EcuConfig
+
+    sc = scenario_from_dict({"ecu": {"strategy": "none", "peak_decel_mps2": 6.5},
+                             "plant": {"parameters": {"brake_dead_time": 0.15, "n": 2, "on": True}}})
+    assert sc.ecu == EcuConfig(strategy="none", peak_decel_mps2=6.5)
+    assert dict(sc.plant.parameters) == {"brake_dead_time": 0.15, "n": 2, "on": True}
+    resolved = tomllib.loads(scenario_to_toml(sc))
+    assert set(resolved["ecu"]) == set(EcuConfig.keys()) and resolved["ecu"]["peak_decel_mps2"] == 6.5
+    assert resolved["plant"]["parameters"] == {"brake_dead_time": 0.15, "n": 2, "on": True}
+    assert scenario_from_dict(resolved) == sc
+    with pytest.raises(ConfigError, match=r"^plant\.parameters\.x: expected a scalar, got \[1\]$"):
+        scenario_from_dict({"plant": {"parameters": {"x": [1]}}})
+
+
+def test_paper_strategies_are_one_list():
+    from can_dbc.contract import STRATEGIES
+    from cosim.results import paper_claims
+    from cosim.scenarios.config import PAPER_STRATEGIES
+
+    assert paper_claims.REQUIRED is PAPER_STRATEGIES and set(PAPER_STRATEGIES) < set(STRATEGIES)

@@ -9,7 +9,7 @@ from typing import Any, Mapping
 import pytest
 
 from ecu.errors import ConfigError
-from ecu.settings import Kind, SettingError, check, keys, load, load_toml, setting, walk
+from ecu.settings import Kind, Range, SettingError, check, keys, load, load_toml, setting, walk
 
 
 def _twice(value: Any, where: str) -> int:
@@ -21,18 +21,18 @@ def _twice(value: Any, where: str) -> int:
 @dataclass(frozen=True)
 class Wheel:
     name: str = setting(doc="required name")
-    radius_m: float = setting(0.3, unit="m", range=(0.0, 2.0), low_open=True, doc="radius")
+    radius_m: float = setting(0.3, unit="m", allowed=Range(0.0, 2.0, low_open=True), doc="radius")
 
 
 @dataclass(frozen=True)
 class Car:
-    mode: str = setting("a", choices=("alpha", "beta", "a"), doc="mode")
-    count: int = setting(1, range=(1, 10), doc="count")
+    mode: str = setting("a", allowed=("alpha", "beta", "a"), doc="mode")
+    count: int = setting(1, allowed=Range(1, 10), doc="count")
     on: bool = setting(False, doc="switch")
-    gap_m: float | None = setting(None, unit="m", range=(0.0, math.inf), doc="optional")
+    gap_m: float | None = setting(None, unit="m", allowed=Range(0.0, math.inf), doc="optional")
     front: Wheel = setting(Wheel(name="f"), doc="a nested table")
     wheels: tuple[Wheel, ...] = setting((), doc="a list of tables")
-    starts: Mapping[str, int | float] = setting(default_factory=dict, doc="a free mapping")
+    starts: Mapping[str, int | float] = setting(factory=dict, doc="a free mapping")
     doubled: int = setting(0, kind=Kind("an integer, doubled", _twice, lambda v: v // 2), doc="a kind")
 
     def __post_init__(self) -> None:
@@ -102,4 +102,4 @@ def test_direct_construction_check_and_declarations():
         check(Car(count=0))
     declared = keys(Car)
     assert declared["front"].default == Wheel(name="f") and keys(Wheel)["name"].required
-    assert declared["count"].declared.range == (1, 10) and declared["mode"].declared.choices == ("alpha", "beta", "a")
+    assert declared["count"].declared.range == Range(1, 10) and declared["mode"].declared.choices == ("alpha", "beta", "a")

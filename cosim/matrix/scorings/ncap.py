@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Iterable, Mapping, Sequence
 
-from ecu.settings import setting
+from ecu.settings import Range, setting
 
 from ..scoring import Outcome, ScoringDefaults, fail_mark, impact_text
 
@@ -27,7 +27,7 @@ RED = ("red", 0.0)
 class NcapTable:
     """``[scoring]`` of an ``ncap`` catalogue."""
 
-    points: Mapping[str, float] = setting(default_factory=dict, range=(0.0, 100.0),
+    points: Mapping[str, float] = setting(factory=dict, allowed=Range(0.0, 100.0),
                                           doc="points per group (the series' group names), e.g. CCRs = 1.2")
     source: str = setting("", doc="the key(s) of [sources] the points cite, joined by +")
 
