@@ -258,11 +258,17 @@ def check_value(declared: Declared, value: Any, where: str, shown: Any = None) -
 
 def check(obj: Any, where: str = "") -> None:
     """Every declared scalar of dataclass instance ``obj`` within its range or choices (direct construction)."""
-    for key in keys(type(obj)).values():
-        value = getattr(obj, key.name)
-        hint = _plain(key.hint)
-        if key.declared.kind is None and hint in _SCALARS and value is not None:
-            check_value(key.declared, _scalar(hint, value, join(where, key.name)), join(where, key.name))
+    for name, hint, declared in _scalar_keys(type(obj)):
+        value = getattr(obj, name)
+        if value is not None:
+            check_value(declared, _scalar(hint, value, join(where, name)), join(where, name), shown=value)
+
+
+@functools.cache
+def _scalar_keys(cls: type) -> tuple[tuple[str, Any, Declared], ...]:
+    """(name, scalar type, declaration) of every plain scalar key of ``cls``: what :func:`check` checks."""
+    return tuple((k.name, _plain(k.hint), k.declared) for k in keys(cls).values()
+                 if k.declared.kind is None and _plain(k.hint) in _SCALARS)
 
 
 _TYPE_TEXT = {bool: "true or false", int: "an integer", float: "a number", str: "a string", Any: "any value"}

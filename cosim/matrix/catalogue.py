@@ -32,7 +32,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
-from ecu.settings import Kind, Range, SettingError, keys, load, load_toml, setting, unknown_key, value_of
+from ecu.settings import Kind, Range, SettingError, keys, load, load_toml, setting, type_text, unknown_key, value_of
 
 from ..errors import ConfigError
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S
@@ -274,9 +274,12 @@ def _series_values(s: Mapping[str, Any], where: str, required: tuple[str, ...]) 
     for key in s:
         if key not in _CELL_KEYS:
             raise unknown_key(where, key, _CELL_KEYS)
-    for key in ("group", "ego_speed_kmh", "target", "source") + required:
+    needed = ("group", "ego_speed_kmh", "target", "source") + required
+    if "lateral_end_m" in s:  # a lateral motion needs its speed and its trigger
+        needed += ("lateral_speed_mps", "lateral_at_gap_m")
+    for key in needed:
         if key not in s:
-            raise SettingError(f"{where}.{key}", "missing")
+            raise SettingError(f"{where}.{key}", f"missing; expected {type_text(_CELL_KEYS[key])}")
     speeds = s["ego_speed_kmh"]
     if not isinstance(speeds, list) or not speeds:
         raise SettingError(f"{where}.ego_speed_kmh", f"expected a list of test speeds (one cell each), got {speeds!r}")

@@ -84,5 +84,8 @@ def test_sweep_range_and_catalogue_scoring_errors(tmp_path):
                                           r"'false_positive', 'follow'\], got 'r125'; did you mean 'r152'\?$"):
         load_catalogue(cat)
     cat.write_text(_CATALOGUE.replace("max_impact_kmh = 0\n", ""))
-    with pytest.raises(ConfigError, match=r"c\.toml: series\[0\]\.max_impact_kmh: missing"):
+    with pytest.raises(ConfigError, match=r"c\.toml: series\[0\]\.max_impact_kmh: missing; expected a number$"):
         load_catalogue(cat)  # r152 needs the limit of every cell
+    cat.write_text(_CATALOGUE + "lateral_end_m = 3.5\nlateral_speed_mps = 1.0\n")
+    with pytest.raises(ConfigError, match=r"c\.toml: series\[0\]\.lateral_at_gap_m: missing; expected a number$"):
+        load_catalogue(cat)  # a lateral motion needs its trigger
