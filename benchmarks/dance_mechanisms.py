@@ -165,8 +165,7 @@ def variant(base, ecu=None, plant=None, radar_latency_s=None):
     """``base`` with ECU and plant parameters overridden and, optionally, another radar latency."""
     sc = base
     if ecu:
-        sc = dataclasses.replace(sc, ecu=dataclasses.replace(
-            sc.ecu, parameters=MappingProxyType(dict(sc.ecu.parameters) | ecu)))
+        sc = dataclasses.replace(sc, ecu=dataclasses.replace(sc.ecu, **ecu))
     if plant:
         sc = dataclasses.replace(sc, plant=dataclasses.replace(
             sc.plant, parameters=MappingProxyType(dict(sc.plant.parameters) | plant)))

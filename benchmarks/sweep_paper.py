@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-from types import MappingProxyType
 
 from cosim.cli.paper import PAPER_SCENARIO
 from cosim.loop.experiment import resolve_fmu
@@ -26,8 +25,7 @@ def main() -> None:
     base = load_scenario(PAPER_SCENARIO)
     fmu = resolve_fmu(base)
     for values in itertools.product(*GRID.values()):
-        params = dict(base.ecu.parameters) | dict(zip(GRID, values))
-        sc = dataclasses.replace(base, ecu=dataclasses.replace(base.ecu, parameters=MappingProxyType(params)))
+        sc = dataclasses.replace(base, ecu=dataclasses.replace(base.ecu, **dict(zip(GRID, values))))
         recs = [run_scenario(sc, fmu, s) for s in REQUIRED]
         claims = evaluate(recs)
         summary = " ".join(f"{c.number}:{'P' if c.passed else 'F'}" for c in claims)

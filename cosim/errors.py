@@ -2,8 +2,9 @@
 
 ::
 
-    ConfigError (ValueError)                        bad scenario file: names the key path and the file
-                                                    (crd's one configuration error, from can_dbc.errors)
+    ConfigError (ValueError)                        bad configuration file: names the file and the key path
+     |                                              (crd's one configuration error, from can_dbc.errors)
+     +-- SettingError (ConfigError)                 from the one loader (ecu.settings): ``<key.path>: <problem>``
     CosimError (Exception)
      +-- PlantError (CosimError, RuntimeError)      FMU missing, broken or mis-mapped
      |    +-- MappingError (PlantError, KeyError)   a mapped name the FMU lacks / wrong causality

@@ -2,188 +2,99 @@
 
 ``EcuConfig`` *is* the core's :class:`~ecu.core.params.CoreParams` (every
 number the arithmetic uses, with defaults) plus the shell's own settings
-(``status_period_cycles``, ``sim_time``). It is passed to the core directly.
+(``status_period_cycles``, ``sim_time``, ``key_file``). It is passed to the core directly.
 
-Loading is strict: an unknown key raises :class:`~ecu.errors.ConfigError`
-naming the key path and the nearest valid name (``difflib``); a value of the
-wrong type or outside its range raises ``ConfigError`` with the expected and
-the actual value. A value that contradicts the CAN contract is refused the
-same way (:func:`_check_contract`): ``cycle_s`` must be the DBC's cycle of
+Every key is declared once, on its field (:func:`ecu.settings.setting`: type,
+unit, range or choices, default, doc), and loaded by the one loader of crd
+(:func:`ecu.settings.load`): an unknown key, a value of the wrong type or out
+of its range raises :class:`~ecu.settings.SettingError` (a
+:class:`~ecu.errors.ConfigError`) naming the key path, the expected and the
+actual value, and for a near miss the valid key. Direct construction checks
+the same declarations. A value that contradicts the CAN contract is refused
+the same way (:func:`_check_contract`): ``cycle_s`` must be the DBC's cycle of
 ``SafetyOverride`` (the master steps the ECU at that cycle, so another value
 would make the core compute hold times and slope limits with the wrong time
-step), ``status_period_cycles`` must give ``EcuStatus``'s DBC cycle, a
-reception timeout may not be shorter than its message's cycle, and no
-deceleration may exceed the full scale of ``BrakeDecelRequest``. Nothing
-comes from the environment.
+step), ``status_period_cycles`` must give ``EcuStatus``'s DBC cycle, and a
+reception timeout may not be shorter than its message's cycle. Nothing comes
+from the environment.
 """
 
 from __future__ import annotations
 
-import math
-import tomllib
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
-from can_dbc.contract import BRAKE_DECEL_MAX_MPS2, ECU_CYCLE_S, STRATEGIES, cycle_time_s
+from can_dbc.contract import ECU_CYCLE_S, cycle_time_s
 
-from .core.params import NON_DRIVEN_WHEELS, CoreParams
-from .errors import ConfigError
+from . import settings
+from .core.params import CoreParams
+from .settings import Range, SettingError, setting
 
 #: EcuStatus is sent every this many ECU cycles (DBC: 100 ms / 10 ms)
 STATUS_PERIOD_CYCLES = round(cycle_time_s("EcuStatus") / ECU_CYCLE_S)
 #: reception timeout key -> the message it times out
 _TIMEOUTS = {"wheel_speeds_timeout_s": "WheelSpeeds", "driver_input_timeout_s": "DriverInput",
              "object_timeout_s": "ObjectTrack"}
-
-_POSITIVE = (0.0, math.inf, False)  # (low, high, low inclusive)
-#: key -> (low, high, low inclusive); high is always inclusive.
-_RANGES: dict[str, tuple[float, float, bool]] = {
-    "cycle_s": (0.0, 1.0, False),
-    "actuation_latency_s": (0.0, 5.0, True),
-    "peak_decel_mps2": (0.0, BRAKE_DECEL_MAX_MPS2, False),
-    "none_decel_fraction": (0.0, 1.0, False),
-    "conservative_decel_fraction": (0.0, 1.0, False),
-    "tightening_decel_fraction": (0.0, 1.0, False),
-    "standoff_m": (0.0, 100.0, True),
-    "driver_max_accel_mps2": (0.0, 20.0, False),
-    "proximity_margin_m": (0.0, 250.0, False),
-    "contingency_decel_mps2": (0.0, BRAKE_DECEL_MAX_MPS2, False),
-    "contingency_release_ratio": (1.0, 10.0, True),
-    "contingency_release_speed_mps": (0.0, 1000.0, True),
-    "decel_estimate_floor_mps2": (0.0, 15.0, False),
-    "decel_estimate_time_constant_s": _POSITIVE,
-    "decel_filter_time_constant_s": _POSITIVE,
-    "abs_slip_threshold": (0.0, 1.0, False),
-    "abs_slip_cycles": (1, 1000, True),
-    "decel_settle_cycles": (0, 100_000, True),
-    "decel_shortfall_mps2": (0.0, 15.0, False),
-    "driven_axle_load_share": (0.0, 1.0, False),
-    "decel_estimate_min_speed_mps": (0.0, 100.0, True),
-    "speed_slope_margin_mps2": (0.0, 50.0, True),
-    "brake_memory_s": (0.0, 10.0, True),
-    "moving_object_speed_mps": (0.0, 100.0, True),
-    "standstill_speed_mps": (0.0, 10.0, True),
-    "vehicle_width_m": (0.0, 10.0, False),
-    "path_margin_m": (0.0, 20.0, True),
-    "proximity_time_s": (0.0, 10.0, True),
-    "proximity_margin_min_m": (0.0, 250.0, False),
-    "wheel_speeds_timeout_s": _POSITIVE,
-    "driver_input_timeout_s": _POSITIVE,
-    "object_timeout_s": _POSITIVE,
-    "e2e_invalid_score": (1, 5, True),
-    "fault_recovery_cycles": (1, 100_000, True),
-    "status_period_cycles": (1, 100_000, True),
-    "wheel_slip_abs_mps": (0.0, 100.0, True),
-    "wheel_slip_fraction": (0.0, 1.0, True),
-    "radar_speed_tolerance_mps": (0.0, 100.0, True),
-    "pedal_conflict_fraction": (0.0, 1.0, True),
-    "degraded_decel_fraction": (0.0, 1.0, False),
-}
-_CHOICES: dict[str, tuple[str, ...]] = {
-    "strategy": STRATEGIES,
-    "driven_axle": tuple(NON_DRIVEN_WHEELS),
-}
-_INTEGERS = {"abs_slip_cycles", "decel_settle_cycles", "e2e_invalid_score", "fault_recovery_cycles", "status_period_cycles"}
+#: the table of a scenario file that holds the ECU's settings
+SECTION = "ecu"
 
 
 @dataclass(frozen=True, slots=True)
 class EcuConfig(CoreParams):
     """Strategy, core parameters and node settings. Construct directly or via the loaders."""
 
-    #: ``EcuStatus`` is sent every this many cycles (DBC: 100 ms = 10 cycles).
-    status_period_cycles: int = STATUS_PERIOD_CYCLES
-    #: run() performs one cycle per received ``SimClock`` frame instead of on the wall clock.
-    sim_time: bool = False
-    #: SecOC key file (32 hex digits, mode 0600; ``can_dbc.secoc``); empty: E2E protection only.
-    key_file: str = ""
+    status_period_cycles: int = setting(STATUS_PERIOD_CYCLES, unit="cycles", allowed=Range(1, 100_000),
+                                        doc="EcuStatus is sent every this many cycles (DBC: 100 ms = 10 cycles)")
+    sim_time: bool = setting(False, doc="one cycle per received SimClock frame instead of on the wall clock")
+    key_file: str = setting("", doc="SecOC key file (32 hex digits, mode 0600; can_dbc.secoc); "
+                                    "empty: E2E protection only")
 
     def __post_init__(self) -> None:
-        _validate(self, "ecu")
-        _check_contract(self, "ecu")
+        settings.check(self)
+        _check_contract(self)
         CoreParams.__post_init__(self)
 
     @classmethod
     def keys(cls) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(cls) if f.init)
+        return tuple(settings.keys(cls))
 
     @classmethod
-    def from_dict(cls, mapping: Mapping[str, Any], where: str = "ecu") -> "EcuConfig":
-        """Build from a mapping (e.g. a TOML table); ``where`` prefixes key paths in errors."""
-        if not isinstance(mapping, Mapping):
-            raise ConfigError(f"{where}: expected a table, got {type(mapping).__name__}")
-        valid = cls.keys()
-        for key in mapping:
-            if key not in valid:
-                import difflib  # here: only a bad key needs it (1 ms less at every ECU start)
-
-                near = difflib.get_close_matches(str(key), valid, n=1)
-                hint = f"; did you mean {where}.{near[0]}?" if near else ""
-                raise ConfigError(f"{where}.{key}: unknown key{hint} (valid keys: {', '.join(valid)})")
-        values = {key: _coerced(f"{where}.{key}", key, value) for key, value in mapping.items()}
-        try:
-            return cls(**values)
-        except ConfigError as exc:
-            raise ConfigError(str(exc).replace("ecu.", f"{where}.", 1)) from None
+    def from_dict(cls, mapping: Mapping[str, Any], where: str = SECTION) -> "EcuConfig":
+        """Build from a mapping (e.g. a TOML table); ``where`` is the key path of the table in errors."""
+        return settings.load(cls, mapping, where)
 
     @classmethod
     def from_toml(cls, path: str | Path) -> "EcuConfig":
-        """Load ``path``; the settings sit at top level or in an ``[ecu]`` table."""
-        path = Path(path)
-        try:
-            data = tomllib.loads(path.read_text())
-        except (OSError, tomllib.TOMLDecodeError) as exc:
-            raise ConfigError(f"{path}: cannot read TOML: {exc}") from exc
-        if "ecu" in data and isinstance(data["ecu"], Mapping):
-            extra = sorted(set(data) - {"ecu"})
-            if extra:
-                raise ConfigError(f"{path}: unknown top-level keys {extra}; expected only [ecu]")
-            return cls.from_dict(data["ecu"], where=f"{path}:ecu")
-        return cls.from_dict(data, where=str(path))
+        """Load ``path``: a scenario file's ``[ecu]`` table, or an ECU file with the keys at top level.
+
+        A scenario's other tables are the scenario's, checked by its own loader (``cosim``, which
+        ``ecu`` does not import); a scenario without ``[ecu]`` runs the ECU's defaults, as it does
+        in the co-simulation. Errors read ``<file>: ecu.<key>: <problem>``.
+        """
+        return settings.load_toml(Path(path), _from_file, "ECU configuration")
 
 
-def _coerced(path: str, key: str, value: Any) -> Any:
-    """Type check: TOML integers are accepted where floats are expected, nothing else is coerced."""
-    default = next(f.default for f in fields(EcuConfig) if f.name == key)
-    if isinstance(default, bool):
-        if not isinstance(value, bool):
-            raise ConfigError(f"{path}: expected true or false, got {value!r}")
-    elif isinstance(default, int):
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise ConfigError(f"{path}: expected an integer, got {value!r}")
-    elif isinstance(default, float):
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ConfigError(f"{path}: expected a number, got {value!r}")
-        value = float(value)
-    elif isinstance(default, str) and not isinstance(value, str):
-        raise ConfigError(f"{path}: expected a string, got {value!r}")
-    return value
+def _from_file(data: Mapping[str, Any]) -> EcuConfig:
+    if SECTION in data:
+        return EcuConfig.from_dict(data[SECTION], SECTION)
+    if data and all(isinstance(value, (Mapping, list)) for value in data.values()):  # a scenario without [ecu]
+        for name in data:
+            if settings.near_miss(name, (SECTION,)):
+                raise SettingError(name, f"unknown key; did you mean {SECTION}?")
+        return EcuConfig()
+    return EcuConfig.from_dict(data, "")
 
 
-def _validate(config: EcuConfig, where: str) -> None:
-    for key, choices in _CHOICES.items():
-        value = getattr(config, key)
-        if value not in choices:
-            raise ConfigError(f"{where}.{key}: expected one of {list(choices)}, got {value!r}")
-    for key, (low, high, low_inclusive) in _RANGES.items():
-        value = getattr(config, key)
-        if key in _INTEGERS and (isinstance(value, bool) or not isinstance(value, int)):
-            raise ConfigError(f"{where}.{key}: expected an integer, got {value!r}")
-        ok_low = value >= low if low_inclusive else value > low
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and ok_low and value <= high):
-            bracket = "[" if low_inclusive else "("
-            raise ConfigError(f"{where}.{key}: expected a value in {bracket}{low}, {high}], got {value!r}")
-
-
-def _check_contract(config: EcuConfig, where: str) -> None:
+def _check_contract(config: EcuConfig) -> None:
     """Refuse values that contradict the DBC (see the module docstring)."""
     if abs(config.cycle_s - ECU_CYCLE_S) > 1e-12:
-        raise ConfigError(f"{where}.cycle_s: expected {ECU_CYCLE_S} s, the DBC's GenMsgCycleTime of "
-                          f"SafetyOverride at which the ECU is stepped, got {config.cycle_s!r}")
+        raise SettingError("cycle_s", f"expected {ECU_CYCLE_S} s, the DBC's GenMsgCycleTime of SafetyOverride "
+                                      f"at which the ECU is stepped, got {config.cycle_s!r}")
     if config.status_period_cycles != STATUS_PERIOD_CYCLES:
-        raise ConfigError(f"{where}.status_period_cycles: expected {STATUS_PERIOD_CYCLES} (the DBC's EcuStatus "
-                          f"cycle of {cycle_time_s('EcuStatus')} s), got {config.status_period_cycles!r}")
+        raise SettingError("status_period_cycles", f"expected {STATUS_PERIOD_CYCLES} (the DBC's EcuStatus "
+                           f"cycle of {cycle_time_s('EcuStatus')} s), got {config.status_period_cycles!r}")
     for key, message in _TIMEOUTS.items():
         value, cycle = getattr(config, key), cycle_time_s(message)
         if value < cycle:
-            raise ConfigError(f"{where}.{key}: expected at least {cycle} s, {message}'s DBC cycle, got {value!r}")
+            raise SettingError(key, f"expected at least {cycle} s, {message}'s DBC cycle, got {value!r}")

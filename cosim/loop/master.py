@@ -48,6 +48,7 @@ Events from the link, the gateway and the loop are merged rate-limited
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -85,10 +86,10 @@ _new_tuple = tuple.__new__
 
 
 def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
-    """The scenario's ``[ecu]`` as an :class:`ecu.EcuConfig` (``strategy`` overrides)."""
-    params = dict(scenario.ecu.parameters)
-    params["strategy"] = strategy or scenario.ecu.strategy
-    return EcuConfig.from_dict(params, where="ecu")
+    """The scenario's ``[ecu]`` (an :class:`ecu.EcuConfig`, checked at load), ``strategy`` in place of its own."""
+    if strategy is None or strategy == scenario.ecu.strategy:
+        return scenario.ecu
+    return dataclasses.replace(scenario.ecu, strategy=strategy)
 
 
 class _Outgoing:

@@ -27,28 +27,106 @@ Scenario of a cell (times from t = 0, when the ego is at its test speed):
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
+from ecu.settings import Kind, Range, SettingError, keys, load, load_toml, setting, type_text, unknown_key, value_of
+
 from ..errors import ConfigError
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S
-from ..scenarios.loader import load_toml_file
+from ..scenarios.loader import scenario_from_dict
+from .scorings import SCORINGS, scoring_named
 
 KMH = 3.6
-SCORINGS = ("r152", "ncap", "false_positive", "follow")
-_SERIES_KEYS = {
-    "group", "ego_speed_kmh", "target", "target_speed_kmh", "lateral_m", "gap_m", "headway_s",
-    "start_ttc_s", "settle_s", "brake_decel_mps2", "brake_ramp_s", "brake_to_speed_kmh", "brake_at_s",
-    "lateral_end_m", "lateral_speed_mps", "lateral_at_gap_m", "road_friction", "max_impact_kmh",
-    "require_no_contact", "extended", "duration_s", "end", "driver_release", "source", "note",
-}
-_BOOL_KEYS = {"require_no_contact", "extended", "driver_release"}
-_STR_KEYS = {"group", "target", "end", "source", "note"}
-_TOP_KEYS = {"catalogue", "sources", "targets", "scenario", "scoring", "series"}
-_ENDS = ("standstill", "matched_speed", "time")
+ENDS = ("standstill", "matched_speed", "time")
+
+
+@dataclass(frozen=True)
+class CellKeys:
+    """The keys of a ``[[series]]`` table, as each cell sees them (unset: not given).
+
+    A list value gives one cell per entry (every list of a series has the length
+    of ``ego_speed_kmh``, which is always a list); a scalar applies to every cell.
+    """
+
+    group: str = setting(doc="the cells' group; a cell's id is <group>-<ego speed>")
+    ego_speed_kmh: float = setting(unit="km/h", allowed=Range(0.0, 300.0), doc="the ego's test speed (a list: one cell each)")
+    target: str = setting(doc="a name of [targets]")
+    source: str = setting(doc="the key(s) of [sources] the series cites, joined by +")
+    target_speed_kmh: float = setting(0.0, unit="km/h", allowed=Range(0.0, 300.0), doc="the target's speed")
+    lateral_m: float = setting(0.0, unit="m", allowed=Range(-20.0, 20.0),
+                               doc="the target's centre offset across the path, left positive")
+    gap_m: float | None = setting(None, unit="m", allowed=Range(0.0, 1e4), doc="start gap (the target's rear ahead of "
+                                  "the ego's front bumper); else headway_s, else from start_ttc_s")
+    headway_s: float | None = setting(None, unit="s", allowed=Range(0.0, 100.0), doc="start gap = headway_s * ego speed")
+    start_ttc_s: float = setting(4.0, unit="s", allowed=Range(0.0, 100.0), doc="TTC at the start of the test, after settle_s")
+    settle_s: float = setting(2.0, unit="s", allowed=Range(0.0, 100.0),
+                              doc="steady approach before the test starts (R152: at least 2 s)")
+    brake_decel_mps2: float = setting(0.0, unit="m/s^2", allowed=Range(0.0, 15.0), doc="the target brakes (0: never)")
+    brake_ramp_s: float = setting(0.0, unit="s", allowed=Range(0.0, 10.0), doc="... reaching it within this")
+    brake_to_speed_kmh: float = setting(0.0, unit="km/h", allowed=Range(0.0, 300.0), doc="... down to this")
+    brake_at_s: float = setting(0.0, unit="s", allowed=Range(0.0, 3600.0), doc="... starting this long after settle_s")
+    lateral_end_m: float | None = setting(None, unit="m", allowed=Range(-20.0, 20.0), doc="the target moves across to this")
+    lateral_speed_mps: float | None = setting(None, unit="m/s", allowed=Range(0.0, 10.0), doc="... at this speed")
+    lateral_at_gap_m: float | None = setting(None, unit="m", allowed=Range(0.0, 1e4), doc="... once the gap falls to this")
+    road_friction: float = setting(1.0, allowed=Range(0.0, 1.5), doc="road friction coefficient")
+    max_impact_kmh: float | None = setting(None, unit="km/h", allowed=Range(0.0, 300.0),
+                                           doc="r152: the highest allowed relative impact speed (0: no contact)")
+    require_no_contact: bool | None = setting(None, doc="ncap: the cell must be green")
+    extended: bool | None = setting(None, doc="ncap: an extended-range cell (scores 1.0 unless red)")
+    duration_s: float | None = setting(None, unit="s", allowed=Range(0.0, 3600.0, low_open=True),
+                                       doc="default: time to close the gap, stop, plus 3 s")
+    end: str | None = setting(None, allowed=ENDS, doc="how the run ends (default: standstill for a standing "
+                              "target, matched_speed for a moving one)")
+    driver_release: bool = setting(True, doc="the robot releases the accelerator after a 5 km/h drop")
+    note: str | None = setting(None, doc="free text")
+
+
+_CELL_KEYS = keys(CellKeys)
+#: a cell's value of a key it does not give (keys without one: the cell's scenario depends on their presence)
+_CELL_DEFAULTS = {k.name: k.default for k in _CELL_KEYS.values() if not k.required and k.default is not None}
+_SCALAR_ONLY = ("group", "target", "source")
+
+
+def _partial_scenario(value: Any, where: str) -> Mapping[str, Any]:
+    """A partial scenario mapping, checked by the scenario loader, kept as data for the cells."""
+    try:
+        scenario_from_dict(value)
+    except SettingError as exc:
+        raise exc.under(where) from None
+    return value
+
+
+@dataclass(frozen=True)
+class CatalogueHead:
+    """``[catalogue]``: what the catalogue is and how it is scored."""
+
+    scoring: str = setting(allowed=tuple(SCORINGS), doc="the protocol's scoring (cosim.matrix.scorings)")
+    title: str = setting("", doc="the report's heading (default: the file's stem)")
+
+
+@dataclass(frozen=True)
+class Target:
+    """``[targets.<name>]``: a target's body."""
+
+    length_m: float = setting(unit="m", allowed=Range(0.0, 50.0, low_open=True), doc="length along the path")
+    width_m: float = setting(unit="m", allowed=Range(0.0, 10.0, low_open=True), doc="width across the path")
+    source: str = setting(doc="the key(s) of [sources] the dimensions cite, joined by +")
+
+
+@dataclass(frozen=True)
+class CatalogueFile:
+    """A catalogue file: every table but ``[[series]]``'s cells, which :func:`_series` reads."""
+
+    catalogue: CatalogueHead = setting(doc="title and scoring")
+    sources: Mapping[str, str] = setting(doc="source key = the document, its version and clause")
+    targets: Mapping[str, Target] = setting(doc="the targets by name")
+    series: tuple[Mapping[str, Any], ...] = setting(doc="the cells (see CellKeys)")
+    scenario: Mapping[str, Any] = setting(factory=dict, doc="a partial scenario every cell starts from",
+                                          kind=Kind("partial scenario (scenario file tables)", _partial_scenario))
+    scoring: Mapping[str, Any] = setting(factory=dict, doc="the scoring's own table (its declared keys)")
 
 
 @dataclass(frozen=True)
@@ -66,24 +144,25 @@ class Cell:
     def ego_speed_kmh(self) -> float:
         return float(self.params["ego_speed_kmh"])
 
-    def get(self, key: str, default: Any = None) -> Any:
-        return self.params.get(key, default)
+    def get(self, key: str) -> Any:
+        """The cell's value of ``key``: given, else its declared default (``None``: not given, no default)."""
+        return self.params.get(key, _CELL_DEFAULTS.get(key))
 
     def scenario_dict(self, phase: int = 0, phases: int = 1) -> dict[str, Any]:
         """The cell as a scenario mapping (plain data, picklable) at radar phase ``phase`` of ``phases``."""
-        p = self.params
-        v, vt = p["ego_speed_kmh"] / KMH, p.get("target_speed_kmh", 0.0) / KMH
-        settle, shift_s = p.get("settle_s", 2.0), OBJECT_TRACK_PERIOD_S * phase / phases
+        p = {**_CELL_DEFAULTS, **self.params}
+        v, vt = p["ego_speed_kmh"] / KMH, p["target_speed_kmh"] / KMH
+        settle, shift_s = p["settle_s"], OBJECT_TRACK_PERIOD_S * phase / phases
         closing = max(0.0, v - vt)
         gap = _start_gap(p, v, closing, settle) + closing * shift_s
         obj = {"name": self.cell_id, "position_m": gap, "speed_mps": vt, "length_m": self.target["length_m"],
-               "width_m": self.target["width_m"], "lateral_m": float(p.get("lateral_m", 0.0))}
+               "width_m": self.target["width_m"], "lateral_m": float(p["lateral_m"])}
         obj.update(_object_motion(p, settle + shift_s))
         data = _deep_merge(self.base, {
             "scenario": {"name": self.cell_id, "duration_s": _duration(p, v, vt, gap, settle)},
-            "plant": {"initial_speed_mps": v, "road_friction": float(p.get("road_friction", 1.0))},
+            "plant": {"initial_speed_mps": v, "road_friction": float(p["road_friction"])},
             "driver": {"model": "hold_speed", "set_speed_mps": v,
-                       "release_drop_mps": 5.0 / KMH if p.get("driver_release", True) else 0.0},
+                       "release_drop_mps": 5.0 / KMH if p["driver_release"] else 0.0},
             "objects": [obj],
         })
         end = p.get("end") or ("matched_speed" if vt > 0.0 else "standstill")
@@ -98,16 +177,15 @@ def _start_gap(p: Mapping[str, Any], v: float, closing: float, settle: float) ->
     if "headway_s" in p:
         return float(p["headway_s"]) * v
     if closing <= 0.0:
-        raise ConfigError("series: expected gap_m or headway_s for a cell without closing speed")
-    return closing * (settle + float(p.get("start_ttc_s", 4.0)))
+        raise SettingError("series", "expected gap_m or headway_s for a cell without closing speed")
+    return closing * (settle + float(p["start_ttc_s"]))
 
 
 def _object_motion(p: Mapping[str, Any], t0_s: float) -> dict[str, Any]:
     out: dict[str, Any] = {}
-    if p.get("brake_decel_mps2", 0.0) > 0.0:
-        out.update(brake_decel_mps2=float(p["brake_decel_mps2"]), brake_ramp_s=float(p.get("brake_ramp_s", 0.0)),
-                   brake_to_speed_mps=p.get("brake_to_speed_kmh", 0.0) / KMH,
-                   brake_at_s=t0_s + float(p.get("brake_at_s", 0.0)))
+    if p["brake_decel_mps2"] > 0.0:
+        out.update(brake_decel_mps2=float(p["brake_decel_mps2"]), brake_ramp_s=float(p["brake_ramp_s"]),
+                   brake_to_speed_mps=p["brake_to_speed_kmh"] / KMH, brake_at_s=t0_s + float(p["brake_at_s"]))
     if "lateral_end_m" in p:
         out.update(lateral_end_m=float(p["lateral_end_m"]), lateral_speed_mps=float(p["lateral_speed_mps"]),
                    lateral_at_gap_m=float(p["lateral_at_gap_m"]))
@@ -119,7 +197,7 @@ def _duration(p: Mapping[str, Any], v: float, vt: float, gap: float, settle: flo
     if "duration_s" in p:
         return float(p["duration_s"])
     closing = max(v - vt, 0.5)
-    brake_s = v / max(p.get("brake_decel_mps2", 0.0), 1e-9) if p.get("brake_decel_mps2") else 0.0
+    brake_s = v / max(p["brake_decel_mps2"], 1e-9) if p["brake_decel_mps2"] else 0.0
     return round(settle + gap / closing + brake_s + v / 4.0 + 3.0, 2)
 
 
@@ -163,93 +241,71 @@ def resolve_path(spec: str) -> Path:
 def load_catalogue(spec: str | Path) -> Catalogue:
     """Read and check one catalogue; errors name the file and the key."""
     path = resolve_path(str(spec))
-    return load_toml_file(path, lambda data: _build(data, path), "catalogue")
+    return load_toml(path, lambda data: _build(data, path), "catalogue")
 
 
-def _need(table: Mapping[str, Any], key: str, where: str, kind: type | tuple) -> Any:
-    """``table[key]``, which must exist and be of ``kind`` (a bool is not a number here)."""
-    path = f"{where}.{key}" if where else key
-    if not isinstance(table, Mapping) or key not in table:
-        raise ConfigError(f"{path}: missing")
-    value = table[key]
-    if not isinstance(value, kind) or (isinstance(value, bool) and kind is not bool):
-        raise ConfigError(f"{path}: expected {getattr(kind, '__name__', kind)}, got {value!r}")
-    return value
-
-
-def _check_source(table: Mapping[str, Any], sources: Mapping[str, str], where: str) -> None:
-    src = _need(table, "source", where, str)
+def _check_source(src: str, sources: Mapping[str, str], where: str) -> None:
     for key in src.split("+"):
         if key.strip() not in sources:
-            raise ConfigError(f"{where}.source: unknown source {key!r}; expected one of {sorted(sources)}")
+            raise SettingError(f"{where}.source", f"unknown source {key!r}; expected one of {sorted(sources)}")
 
 
 def _build(data: Mapping[str, Any], path: Path) -> Catalogue:
-    for key in data:
-        if key not in _TOP_KEYS:
-            raise ConfigError(f"unknown key {key!r}; expected one of {sorted(_TOP_KEYS)}")
-    head = _need(data, "catalogue", "", dict)
-    scoring = _need(head, "scoring", "catalogue", str)
-    if scoring not in SCORINGS:
-        raise ConfigError(f"catalogue.scoring: expected one of {list(SCORINGS)}, got {scoring!r}")
-    sources = {k: str(v) for k, v in _need(data, "sources", "", dict).items()}
-    targets = _need(data, "targets", "", dict)
-    for name, t in targets.items():
-        _check_source(t, sources, f"targets.{name}")
-        for key in ("length_m", "width_m"):
-            _need(t, key, f"targets.{name}", (int, float))
-    table = data.get("scoring", {})
-    if table:
-        _check_source(table, sources, "scoring")
+    f = load(CatalogueFile, data)
+    scoring = scoring_named(f.catalogue.scoring)
+    sources = dict(f.sources)
+    for name, target in f.targets.items():
+        _check_source(target.source, sources, f"targets.{name}")
+    table = load(scoring.table, f.scoring, "scoring")
+    if f.scoring:
+        _check_source(table.source, sources, "scoring")
     name = path.stem
-    cells = tuple(c for i, s in enumerate(_need(data, "series", "", list))
-                  for c in _series(s, i, name, targets, sources, data.get("scenario", {})))
+    cells = tuple(c for i, s in enumerate(f.series)
+                  for c in _series(s, f"series[{i}]", (name, scoring.required_keys), f.targets, sources, f.scenario))
     ids = [c.cell_id for c in cells]
     if len(set(ids)) != len(ids):
-        raise ConfigError(f"series: duplicate cell ids {sorted({i for i in ids if ids.count(i) > 1})}")
-    return Catalogue(name, str(head.get("title", name)), scoring, str(path), sources, table, cells)
+        raise SettingError("series", f"expected distinct cell ids, got {sorted({i for i in ids if ids.count(i) > 1})} "
+                                     "more than once")
+    return Catalogue(name, f.catalogue.title or name, scoring.name, str(path), sources, table, cells)
 
 
-def _series(s: Mapping[str, Any], i: int, cat: str, targets: Mapping, sources: Mapping,
-            base: Mapping[str, Any]) -> list[Cell]:
-    where = f"series[{i}]"
+def _series_values(s: Mapping[str, Any], where: str, required: tuple[str, ...]) -> tuple[int, dict[str, Any]]:
+    """The number of cells and each key's checked value (a list: one per cell)."""
     for key in s:
-        if key not in _SERIES_KEYS:
-            raise ConfigError(f"{where}.{key}: unknown key; expected one of {sorted(_SERIES_KEYS)}")
-    _check_source(s, sources, where)
-    group = _need(s, "group", where, str)
-    speeds = _need(s, "ego_speed_kmh", where, list)
-    target = targets.get(_need(s, "target", where, str))
+        if key not in _CELL_KEYS:
+            raise unknown_key(where, key, _CELL_KEYS)
+    needed = ("group", "ego_speed_kmh", "target", "source") + required
+    if "lateral_end_m" in s:  # a lateral motion needs its speed and its trigger
+        needed += ("lateral_speed_mps", "lateral_at_gap_m")
+    for key in needed:
+        if key not in s:
+            raise SettingError(f"{where}.{key}", f"missing; expected {type_text(_CELL_KEYS[key])}")
+    speeds = s["ego_speed_kmh"]
+    if not isinstance(speeds, list) or not speeds:
+        raise SettingError(f"{where}.ego_speed_kmh", f"expected a list of test speeds (one cell each), got {speeds!r}")
+    values: dict[str, Any] = {}
+    for key, value in s.items():
+        here = f"{where}.{key}"
+        if isinstance(value, list) and key not in _SCALAR_ONLY:
+            if len(value) != len(speeds):
+                raise SettingError(here, f"expected {len(speeds)} values (one per ego speed), got {len(value)}")
+            values[key] = [value_of(_CELL_KEYS[key], v, f"{here}[{j}]") for j, v in enumerate(value)]
+        else:
+            values[key] = value_of(_CELL_KEYS[key], value, here)
+    return len(speeds), values
+
+
+def _series(s: Mapping[str, Any], where: str, cat: tuple[str, tuple[str, ...]], targets: Mapping[str, Target],
+            sources: Mapping[str, str], base: Mapping[str, Any]) -> list[Cell]:
+    name, required = cat
+    n, values = _series_values(s, where, required)
+    _check_source(values["source"], sources, where)
+    target = targets.get(values["target"])
     if target is None:
-        raise ConfigError(f"{where}.target: unknown target {s['target']!r}; expected one of {sorted(targets)}")
-    if s.get("end", "standstill") not in _ENDS:
-        raise ConfigError(f"{where}.end: expected one of {list(_ENDS)}, got {s['end']!r}")
+        raise SettingError(f"{where}.target", f"unknown target {values['target']!r}; expected one of {sorted(targets)}")
     cells = []
-    for j, speed in enumerate(speeds):
-        params = {}
-        for key, value in s.items():
-            if isinstance(value, list):
-                if len(value) != len(speeds):
-                    raise ConfigError(f"{where}.{key}: expected {len(speeds)} values (one per ego speed),"
-                                      f" got {len(value)}")
-                value = value[j]
-            params[key] = _checked(key, value, f"{where}.{key}")
-        cell_id = f"{group}-{speed:g}"
-        cells.append(Cell(cat, cell_id, group, params, dict(target), base))
+    for j in range(n):
+        params = {key: value[j] if isinstance(value, list) else value for key, value in values.items()}
+        cells.append(Cell(name, f"{params['group']}-{params['ego_speed_kmh']:g}", params["group"], params,
+                          {"length_m": target.length_m, "width_m": target.width_m, "source": target.source}, base))
     return cells
-
-
-def _checked(key: str, value: Any, where: str) -> Any:
-    """A cell value of the right type: true/false, a string, or a finite number (>= 0 except lateral_m)."""
-    if key in _BOOL_KEYS:
-        ok, expected = isinstance(value, bool), "true or false"
-    elif key in _STR_KEYS:
-        ok, expected = isinstance(value, str), "a string"
-    else:
-        number = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-        ok = number and (value >= 0.0 or key == "lateral_m")
-        expected = "a finite number" + ("" if key == "lateral_m" else " >= 0")
-    if not ok:
-        raise ConfigError(f"{where}: expected {expected}, got {value!r}")
-    return value
-

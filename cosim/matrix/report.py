@@ -20,7 +20,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from .catalogue import Catalogue  # noqa: E402
-from .scoring import ncap_points  # noqa: E402
+from .scoring import Scoring  # noqa: E402
+from .scorings import scoring_named  # noqa: E402
 
 CSV_COLUMNS = ("catalogue", "scoring", "cell", "group", "test_speed_kmh", "target_speed_kmh", "road_friction",
                "strategy", "phases", "collided", "impact_kmh", "max_impact_kmh", "colour", "score", "interventions",
@@ -42,10 +43,8 @@ def write_outputs(out: Path, catalogues: Sequence[Catalogue], rows: Sequence[Map
     figures = {}
     for cat in catalogues:
         cat_rows = [r for r in rows if r["catalogue"] == cat.name]
-        figures[cat.name] = [] if cat.scoring == "false_positive" else \
-            [impact_plot(out / f"impact_{cat.name}.png", cat, cat_rows)]  # no impacts to plot there
-        if cat.scoring == "ncap":
-            figures[cat.name].append(band_grid(out / f"bands_{cat.name}.png", cat, cat_rows))
+        figures[cat.name] = [PLOTS[name](out / f"{name}_{cat.name}.png", cat, cat_rows)
+                             for name in scoring_named(cat.scoring).plots]
     path = out / "report.md"
     path.write_text(report_text(catalogues, rows, meta, figures))
     return path
@@ -95,31 +94,25 @@ def band_grid(path: Path, cat: Catalogue, rows: Sequence[Mapping[str, Any]]) -> 
     return path.name
 
 
-def _fmt(r: Mapping[str, Any], scoring: str) -> str:
-    if r.get("error"):
-        return "error"
-    if scoring == "false_positive":
-        return f"{r['interventions']} int." + (" HIT" if r["collided"] else "")
-    if scoring == "follow":
-        low = r["min_speed_intervening_mps"]
-        return ("HIT " if r["collided"] else "") + ("-" if low is None else f"min {low:.1f} m/s")
-    text = f"{r['impact_kmh']:.1f}" if r["collided"] else "0"
-    if scoring == "ncap":
-        text += f" {r['colour']}"
-    return text + ("" if r["passed"] else " **FAIL**")
+#: report figure name (a scoring's ``plots``) -> the function that draws it
+PLOTS = {"impact": impact_plot, "bands": band_grid}
+
+
+def _fmt(r: Mapping[str, Any], scoring: Scoring) -> str:
+    return "error" if r.get("error") else scoring.cell_text(r)
 
 
 def cell_table(cat: Catalogue, rows: Sequence[Mapping[str, Any]]) -> list[str]:
-    """Markdown table: one line per cell, one column per strategy."""
+    """Markdown table: one line per cell, one column per strategy (and the scoring's limit column, if any)."""
+    scoring = scoring_named(cat.scoring)
     strategies = list(dict.fromkeys(r["strategy"] for r in rows))
     by = {(r["cell"], r["strategy"]): r for r in rows}
-    extra = " limit km/h |" if cat.scoring == "r152" else ""
+    extra = f" {scoring.limit_header} |" if scoring.limit_header else ""
     lines = [f"| cell |{extra} " + " | ".join(strategies) + " |",
              "|---|" + ("---|" if extra else "") + "---|" * len(strategies)]
     for cell in dict.fromkeys(r["cell"] for r in rows):
-        first = by[(cell, strategies[0])]
-        lim = f" {first['max_impact_kmh']:g} |" if extra else ""
-        lines.append(f"| {cell} |{lim} " + " | ".join(_fmt(by[(cell, s)], cat.scoring) for s in strategies) + " |")
+        lim = f" {scoring.limit_text(by[(cell, strategies[0])])} |" if extra else ""
+        lines.append(f"| {cell} |{lim} " + " | ".join(_fmt(by[(cell, s)], scoring) for s in strategies) + " |")
     return lines
 
 
@@ -128,17 +121,12 @@ def summary_lines(catalogues: Sequence[Catalogue], rows: Sequence[Mapping[str, A
     lines = []
     for cat in catalogues:
         cat_rows = [r for r in rows if r["catalogue"] == cat.name]
-        points = ncap_points(cat_rows, cat.scoring_table.get("points", {})) if cat.scoring == "ncap" else {}
+        scoring = scoring_named(cat.scoring)
         for s in dict.fromkeys(r["strategy"] for r in cat_rows):
             mine = [r for r in cat_rows if r["strategy"] == s]
             failed = [r["cell"] for r in mine if not r["passed"]]
             text = f"{cat.name:<16} {s:<13} {len(mine) - len(failed):>3}/{len(mine):<3} pass"
-            if cat.scoring == "false_positive":
-                text += f"  interventions {sum(r['interventions'] for r in mine)}"
-            if s in points:
-                p = points[s]
-                text += f"  NCAP {p['total']:.2f}/{sum(cat.scoring_table['points'].values()):.1f} pts (" + \
-                    ", ".join(f"{g} {v:.2f}" for g, v in p.items() if g != "total") + ")"
+            text += scoring.summary(mine, cat.scoring_table)
             if failed:
                 text += "  FAIL: " + ", ".join(failed[:6]) + (" ..." if len(failed) > 6 else "")
             lines.append(text)

@@ -20,7 +20,8 @@ from ..loop.experiment import resolve_fmu
 from ..loop.master import run_scenario
 from ..scenarios.loader import scenario_from_dict
 from .catalogue import Catalogue, Cell
-from .scoring import RESTRICTING_MODES, Outcome, interventions, score_cell, worst
+from .scoring import RESTRICTING_MODES, Outcome, interventions, worst
+from .scorings import score_cell, scoring_named
 
 log = logging.getLogger(__name__)
 KMH = 3.6
@@ -120,13 +121,12 @@ def score_rows(catalogues: Sequence[Catalogue], strategies: Sequence[str], phase
 def _row(cat: Catalogue, cell: Cell, strategy: str, per_phase: list[Outcome]) -> dict[str, Any]:
     w = worst(per_phase)
     row = {"catalogue": cat.name, "scoring": cat.scoring, "cell": cell.cell_id, "group": cell.group,
-           "test_speed_kmh": cell.ego_speed_kmh, "target_speed_kmh": float(cell.get("target_speed_kmh", 0.0)),
-           "road_friction": float(cell.get("road_friction", 1.0)), "strategy": strategy,
+           "test_speed_kmh": cell.ego_speed_kmh, "target_speed_kmh": float(cell.get("target_speed_kmh")),
+           "road_friction": float(cell.get("road_friction")), "strategy": strategy,
            "phases": len(per_phase), "impact_kmh_by_phase": [round(o.impact_kmh, 3) for o in per_phase]}
     row.update({k: v for k, v in asdict(w).items() if k != "wall_time_s"})
     row["wall_time_s"] = sum(o.wall_time_s for o in per_phase)
-    if cat.scoring == "r152":
-        row["max_impact_kmh"] = float(cell.get("max_impact_kmh"))
+    row.update(scoring_named(cat.scoring).row_fields(cell.params))
     row.update(score_cell(cat.scoring, cell.params, w))
     return row
 

@@ -1,37 +1,21 @@
-"""Scoring a cell's outcome as its protocol does.
+"""The seam between a catalogue's cells and the protocol that scores them.
 
-* ``r152`` (UN R152, para. 5.2.1.4 table for M1): pass iff the relative impact
-  speed is at most the cell's ``max_impact_kmh`` (0: no contact allowed).
-* ``ncap`` (Euro NCAP 2026 Crash Avoidance - Frontal Collisions v1.1, scoring):
-  the relative impact speed sets a colour, green (no contact) 1.00, yellow
-  (0, 10] km/h 0.75, orange (10, 20] 0.50, brown (20, 30] 0.25, red > 30 km/h
-  0 (the protocol's worked example); an extended-range cell scores 1.0 unless
-  red. A group scores ``points * mean(cell scores)`` (equal cell weights: our
-  assumption, the protocol weights are not in our sources). Requirement: a
-  cell with ``require_no_contact`` (CCRs <= 20 km/h) must be green.
-* ``false_positive``: the number of interventions, where an intervention is
-  any entry into a mode that limits the throttle or requests braking after
-  start-up; goal 0 and no contact.
-* ``follow`` (ours): behind a moving target the ECU brakes to zero relative
-  speed and must not bring the car to a standstill: pass iff no contact and
-  the minimum speed from the first intervention until 1 s after the last
-  stays above 1 m/s (:func:`cosim.matrix.runner.outcome_of`).
+:class:`Outcome` is what one run of one cell at one radar phase produced;
+:class:`Scoring` is the typed Protocol every protocol's scoring implements, one
+module each under :mod:`cosim.matrix.scorings`, registered in one table
+(:data:`cosim.matrix.scorings.SCORINGS`) that a catalogue's ``scoring`` key
+names. :class:`ScoringDefaults` holds what most scorings share.
 
-With several radar phases a cell is scored on its worst phase: the highest
-impact speed, the most interventions, the lowest speed.
+With several radar phases a cell is scored on its worst phase
+(:func:`worst`): the highest impact speed, the most interventions, the lowest speed.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any, ClassVar, Iterable, Mapping, Protocol, Sequence
 
-#: (upper edge of relative impact speed in km/h, colour, sub-score); above the last edge: red.
-NCAP_BANDS: tuple[tuple[float, str, float], ...] = (
-    (0.0, "green", 1.00), (10.0, "yellow", 0.75), (20.0, "orange", 0.50), (30.0, "brown", 0.25))
-RED = ("red", 0.0)
 RESTRICTING_MODES = ("TIGHTENING", "CONTINGENCY")
-FOLLOW_MIN_SPEED_MPS = 1.0
 KMH = 3.6
 
 
@@ -63,16 +47,6 @@ def interventions(modes: Sequence[str]) -> int:
     return count
 
 
-def ncap_colour(impact_kmh: float, collided: bool) -> tuple[str, float]:
-    """Colour and sub-score of a standard cell."""
-    if not collided:
-        return NCAP_BANDS[0][1], NCAP_BANDS[0][2]
-    for edge, colour, score in NCAP_BANDS[1:]:
-        if impact_kmh <= edge:
-            return colour, score
-    return RED
-
-
 def worst(outcomes: Iterable[Outcome]) -> Outcome:
     """The worst phase: an error first, then contact at the highest speed, most interventions, lowest speed."""
     def badness(o: Outcome) -> tuple:
@@ -81,37 +55,53 @@ def worst(outcomes: Iterable[Outcome]) -> Outcome:
     return max(outcomes, key=badness)
 
 
-def score_cell(scoring: str, params: Mapping[str, Any], o: Outcome) -> dict[str, Any]:
-    """The protocol's verdict on one cell: ``passed`` (requirement met), and colour/score for NCAP."""
-    if o.error is not None:
-        return {"passed": False, "verdict": f"error: {o.error}"}
-    if scoring == "r152":
-        limit = float(params["max_impact_kmh"])
-        ok = (not o.collided) if limit == 0.0 else (not o.collided or o.impact_kmh <= limit)
-        return {"passed": ok, "verdict": "pass" if ok else f"FAIL (limit {limit:g} km/h)"}
-    if scoring == "ncap":
-        colour, score = ncap_colour(o.impact_kmh, o.collided)
-        if params.get("extended") and colour != "red":
-            score = 1.0
-        ok = not (params.get("require_no_contact") and o.collided)
-        return {"passed": ok, "colour": colour, "score": score,
-                "verdict": colour if ok else f"FAIL ({colour}; avoidance required)"}
-    if scoring == "false_positive":
-        ok = o.interventions == 0 and not o.collided
-        return {"passed": ok, "verdict": "pass" if ok else f"FAIL ({o.interventions} interventions)"}
-    low = o.min_speed_intervening_mps
-    ok = not o.collided and (low is None or low > FOLLOW_MIN_SPEED_MPS)
-    return {"passed": ok, "verdict": "pass" if ok else "FAIL (contact or standstill)"}
 
 
-def ncap_points(rows: Iterable[Mapping[str, Any]], points: Mapping[str, float]) -> dict[str, dict[str, float]]:
-    """Per strategy and group: ``points * mean(score)``, and ``total``."""
-    acc: dict[str, dict[str, list[float]]] = {}
-    for r in rows:
-        if "score" in r and r["group"] in points:
-            acc.setdefault(r["strategy"], {}).setdefault(r["group"], []).append(r["score"])
-    out: dict[str, dict[str, float]] = {}
-    for strategy, groups in acc.items():
-        out[strategy] = {g: points[g] * sum(s) / len(s) for g, s in groups.items()}
-        out[strategy]["total"] = sum(out[strategy].values())
-    return out
+class Scoring(Protocol):
+    """How one protocol scores a catalogue's cells, and how the report shows them."""
+
+    name: ClassVar[str]  #: the catalogue's ``scoring`` value
+    table: ClassVar[type]  #: the declared ``[scoring]`` table of a catalogue (ecu.settings)
+    plots: ClassVar[tuple[str, ...]]  #: report figures: "impact" (against test speed), "bands" (colour grid)
+    limit_header: ClassVar[str]  #: an extra column of the report's cell table ("": none)
+    required_keys: ClassVar[tuple[str, ...]]  #: cell keys every series of such a catalogue must give
+
+    def score(self, params: Mapping[str, Any], o: Outcome) -> dict[str, Any]:
+        """The verdict on one cell's worst phase: ``passed``, ``verdict`` (and what else the protocol gives)."""
+
+    def row_fields(self, params: Mapping[str, Any]) -> dict[str, Any]:
+        """Cell values the result row carries for this protocol (before the verdict)."""
+
+    def cell_text(self, row: Mapping[str, Any]) -> str:
+        """A row's cell in the report's table (an error is shown by the caller)."""
+
+    def limit_text(self, row: Mapping[str, Any]) -> str:
+        """The row's entry in the ``limit_header`` column."""
+
+    def summary(self, rows: Sequence[Mapping[str, Any]], table: Any) -> str:
+        """What the summary line of one strategy adds (its rows of one catalogue)."""
+
+
+class ScoringDefaults:
+    """No extra row fields, no limit column, nothing to add to the summary."""
+
+    limit_header: ClassVar[str] = ""
+    required_keys: ClassVar[tuple[str, ...]] = ()
+
+    def row_fields(self, params: Mapping[str, Any]) -> dict[str, Any]:
+        return {}
+
+    def limit_text(self, row: Mapping[str, Any]) -> str:
+        return ""
+
+    def summary(self, rows: Sequence[Mapping[str, Any]], table: Any) -> str:
+        return ""
+
+
+def impact_text(row: Mapping[str, Any]) -> str:
+    """The relative impact speed in km/h, ``0`` without contact."""
+    return f"{row['impact_kmh']:.1f}" if row["collided"] else "0"
+
+
+def fail_mark(row: Mapping[str, Any]) -> str:
+    return "" if row["passed"] else " **FAIL**"

@@ -36,11 +36,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..scenarios.config import PAPER_STRATEGIES
 from .report import Verdict, fmt
 from .run_record import RunRecord
 from .speed_dance import DROP_MPS, RISE_MPS, speed_dance
 
-REQUIRED = ("none", "conservative", "tightening")
+#: the runs the claims need: one per strategy of the paper (the one list, ``PAPER_STRATEGIES``)
+REQUIRED = PAPER_STRATEGIES
 SPLIT_POSITION_M = 200.0
 GRID_M = 0.25
 SPEED_MARGIN_MPS = 0.1

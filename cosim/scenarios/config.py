@@ -1,68 +1,53 @@
 """The scenario as frozen dataclasses: one per TOML section.
 
-Every field carries its unit in its name and its allowed range in
-``metadata["range"]`` (closed interval) or ``metadata["choices"]``; the loader
-(:mod:`cosim.scenarios.loader`) enforces both and rejects unknown keys.
+Every key is declared once, on its field (:func:`ecu.settings.setting`: type,
+unit in the name and the declaration, range or choices, default, doc); the
+loader (:mod:`cosim.scenarios.loader`, through :func:`ecu.settings.load`)
+enforces them and rejects unknown keys, and the reference page
+(``docs/scenario-reference.md``, :mod:`cosim.scenarios.reference`) is rendered
+from them. ``[ecu]`` is :class:`ecu.EcuConfig` itself, declared the same way.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from datetime import datetime
 from types import MappingProxyType
 from typing import Mapping
 
-from can_dbc.contract import ECU_CYCLE_S, STRATEGIES, cycle_time_s, timeout_s
+from can_dbc.contract import ECU_CYCLE_S, STRATEGIES, cycle_time_s, timeout_s  # STRATEGIES: for importers
+from ecu.config import EcuConfig
+from ecu.settings import Range, setting
+
+from .kinds import FMU_START_VALUES, POINTS, START_TIME, SignalMap, event_names, signal_maps
 
 OBJECT_TRACK_PERIOD_S = cycle_time_s("ObjectTrack")  # the contract's radar cycle (DBC GenMsgCycleTime 50 ms)
-#: the paper's three strategies; the DBC's ``VAL_`` adds our extension ``adaptive`` (issue 14).
+#: the paper's three strategies, the one list of them (``crd matrix``'s default, the runs the paper's
+#: claims need); the DBC's ``VAL_`` adds our extension ``adaptive`` (issue 14).
 PAPER_STRATEGIES = ("none", "conservative", "tightening")
 #: ``[scenario] start_time`` default: the start of 2020, UTC. A fixed date keeps the logs'
 #: headers deterministic; any date from 1990 on works (BLF treats earlier ones as unset).
 DEFAULT_START_TIME = "2020-01-01T00:00:00+00:00"
 
 
-def _r(lo: float, hi: float) -> dict:
-    return {"range": (lo, hi)}
-
-
-def _c(*choices: object) -> dict:
-    return {"choices": choices}
-
-
 @dataclass(frozen=True)
 class ScenarioSection:
-    """``[scenario]``: name, simulated duration (s), plant step (s), seed, start time.
+    """``[scenario]``: name, simulated duration, plant step, seed, start time."""
 
-    ``start_time`` is the absolute time of t = 0 (ISO 8601 with a UTC offset, or a
-    TOML offset date-time); the CAN logs' headers carry it (:mod:`cosim.results.can_logs`).
-    """
-
-    name: str = "scenario"
-    duration_s: float = field(default=30.0, metadata=_r(0.01, 3600.0))
-    step_s: float = field(default=0.001, metadata=_r(1e-4, ECU_CYCLE_S))
-    seed: int = field(default=0, metadata=_r(0, 2**63 - 1))
-    start_time: str = field(default=DEFAULT_START_TIME, metadata={"datetime": True})
+    name: str = setting("scenario", doc="the scenario's name (reports, plots)")
+    duration_s: float = setting(30.0, unit="s", allowed=Range(0.01, 3600.0),
+                                doc="simulated time; the run ends here unless contact or [end] ends it first")
+    step_s: float = setting(0.001, unit="s", allowed=Range(1e-4, ECU_CYCLE_S),
+                            doc=f"plant step; must divide the {ECU_CYCLE_S} s ECU cycle")
+    seed: int = setting(0, allowed=Range(0, 2**63 - 1), doc="seeds every random source of the run (radar noise, dropouts)")
+    start_time: str = setting(DEFAULT_START_TIME, kind=START_TIME,
+                              doc="absolute time of t = 0 (ISO 8601 with a UTC offset, or a TOML offset "
+                                  "date-time); the CAN logs' headers carry it (cosim.results.can_logs)")
 
     @property
     def start_datetime(self) -> datetime:
         """``start_time`` as an aware :class:`datetime.datetime`."""
         return datetime.fromisoformat(self.start_time)
-
-
-@dataclass(frozen=True)
-class SignalMap:
-    """One role of ``[plant.inputs]``/``[plant.outputs]`` mapped to FMU variables.
-
-    Outputs: ``si = fmu_value * scale + offset``.
-    Inputs: ``fmu_value = role_value * scale + offset``.
-    ``names`` has one entry, except ``wheel_speeds`` (1 to 4 names, rad/s after scaling).
-    """
-
-    role: str
-    names: tuple[str, ...]
-    scale: float = 1.0
-    offset: float = 0.0
 
 
 INPUT_ROLES = ("throttle", "brake", "accel_command", "road_friction")
@@ -88,36 +73,49 @@ BUILTIN_INITIAL = (SignalMap("speed", ("v0",)),)
 class PlantConfig:
     """``[plant]``: which FMU, its parameters and how its variables map to roles.
 
-    ``accel_gain_mps2``/``brake_gain_mps2`` drive an ``accel_command`` FMU:
-    ``accel_command = throttle * accel_gain_mps2 - brake * brake_gain_mps2`` (m/s²).
-    ``wheel_radius_m`` converts wheel speeds (rad/s → m/s) and derives them
-    from the speed when the FMU has none. ``front_bumper_offset_m`` is the
-    front bumper's position relative to the FMU's position output.
-    ``isolation``: where the FMU runs (``cosim.world.plant.open_plant``);
-    ``step_timeout_s``: with ``process``, the longest any FMU call may take
-    before the run stops with an error naming the time.
+    A third-party FMU needs ``[plant.inputs]`` (``throttle`` and ``brake``, or
+    ``accel_command``) and ``[plant.outputs]`` (at least ``position`` and ``speed``);
+    the builtin plant has default maps, and a role given replaces its default.
+    Inputs: ``fmu_value = role_value * scale + offset``; outputs:
+    ``si = fmu_value * scale + offset``.
     """
 
-    fmu: str = "builtin"
-    fmi_version: int = field(default=3, metadata=_c(2, 3))
-    road_friction: float = field(default=1.0, metadata=_r(0.0, 1.5))
-    wheel_radius_m: float = field(default=0.31, metadata=_r(0.05, 2.0))
-    front_bumper_offset_m: float = field(default=0.0, metadata=_r(-10.0, 10.0))
-    isolation: str = field(default="auto", metadata=_c("auto", "inprocess", "process"))
-    step_timeout_s: float = field(default=5.0, metadata=_r(0.01, 3600.0))
-    accel_gain_mps2: float = field(default=3.0, metadata=_r(0.0, 20.0))
-    brake_gain_mps2: float = field(default=9.0, metadata=_r(0.0, 20.0))
-    #: speed at t = 0 (m/s), set through the ``[plant.initial]`` ``speed`` parameter
-    #: (builtin: ``v0``); 0 leaves the FMU's own start value.
-    initial_speed_mps: float = field(default=0.0, metadata=_r(0.0, 80.0))
-    #: body of the vehicle for contact (collision needs longitudinal AND lateral
-    #: overlap); defaults: Euro NCAP's reference VUT, 4.358 x 1.815 m.
-    length_m: float = field(default=4.358, metadata=_r(0.5, 30.0))
-    width_m: float = field(default=1.815, metadata=_r(0.5, 5.0))
-    parameters: Mapping[str, float | bool] = field(default_factory=lambda: MappingProxyType({}))
-    inputs: tuple[SignalMap, ...] = BUILTIN_INPUTS
-    outputs: tuple[SignalMap, ...] = BUILTIN_OUTPUTS
-    initial: tuple[SignalMap, ...] = BUILTIN_INITIAL
+    fmu: str = setting("builtin", doc="\"builtin\" (our plant, fmu_plant/) or the path of an FMU, "
+                                      "relative to the scenario file")
+    fmi_version: int = setting(3, allowed=(2, 3), doc="FMI version of the builtin plant's build")
+    road_friction: float = setting(1.0, allowed=Range(0.0, 1.5), doc="road friction coefficient (1.0: dry asphalt)")
+    wheel_radius_m: float = setting(0.31, unit="m", allowed=Range(0.05, 2.0),
+                                    doc="converts wheel speeds (rad/s -> m/s); derives them from the speed "
+                                        "when the FMU has none")
+    front_bumper_offset_m: float = setting(0.0, unit="m", allowed=Range(-10.0, 10.0),
+                                           doc="the front bumper's position relative to the FMU's position "
+                                               "output (0: the builtin plant's x is its front bumper)")
+    isolation: str = setting("auto", allowed=("auto", "inprocess", "process"),
+                             doc="where the FMU runs (cosim.world.plant.open_plant)")
+    step_timeout_s: float = setting(5.0, unit="s", allowed=Range(0.01, 3600.0),
+                                    doc="with isolation = \"process\": the longest any FMU call may take before "
+                                        "the run stops with an error naming the time")
+    accel_gain_mps2: float = setting(3.0, unit="m/s^2", allowed=Range(0.0, 20.0),
+                                     doc="an accel_command FMU gets throttle * accel_gain_mps2 - brake * "
+                                         "brake_gain_mps2")
+    brake_gain_mps2: float = setting(9.0, unit="m/s^2", allowed=Range(0.0, 20.0), doc="see accel_gain_mps2")
+    initial_speed_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 80.0),
+                                       doc="speed at t = 0, set through the [plant.initial] speed parameter "
+                                           "(builtin: v0); 0 leaves the FMU's own start value")
+    length_m: float = setting(4.358, unit="m", allowed=Range(0.5, 30.0),
+                              doc="body length for contact (Euro NCAP's reference VUT: 4.358 x 1.815 m)")
+    width_m: float = setting(1.815, unit="m", allowed=Range(0.5, 5.0),
+                             doc="body width; contact needs longitudinal AND lateral overlap")
+    parameters: Mapping[str, bool | int | float | str] = setting(
+        factory=lambda: MappingProxyType({}), kind=FMU_START_VALUES,
+        doc="FMU start values by parameter name (the FMU defines the names; checked against its model "
+            "description when the plant opens), e.g. brake_dead_time = 0.15")
+    inputs: tuple[SignalMap, ...] = setting(BUILTIN_INPUTS, kind=signal_maps(INPUT_ROLES),
+                                            doc="[plant.inputs]: the FMU's input variables by role")
+    outputs: tuple[SignalMap, ...] = setting(BUILTIN_OUTPUTS, kind=signal_maps(OUTPUT_ROLES),
+                                             doc="[plant.outputs]: the FMU's output variables by role")
+    initial: tuple[SignalMap, ...] = setting(BUILTIN_INITIAL, kind=signal_maps(INITIAL_ROLES),
+                                             doc="[plant.initial]: the FMU parameter that initial_speed_mps sets")
 
     def input_map(self, role: str) -> SignalMap | None:
         return next((m for m in self.inputs if m.role == role), None)
@@ -128,39 +126,42 @@ class PlantConfig:
 
 @dataclass(frozen=True)
 class DriverConfig:
-    """``[driver]``: the guidance model.
+    """``[driver]``: the guidance model, as pedal positions once per ECU cycle.
 
-    ``full_throttle``: accelerator at ``accel_pedal_pct`` always (the paper's distracted driver).
-    ``cruise``: P control on speed, ``pedal% = gain_pct_per_mps * (set_speed_mps - v)``,
-    positive to the accelerator, negative to the brake.
-    ``hold_speed``: PI control on speed (no steady-state error), accelerator only
-    (never brakes), optional release after a ``release_drop_mps`` drop
-    (:func:`cosim.world.driver_models.hold_speed`).
-    ``scripted``: ``points`` = rows ``[at, accel_pct, brake_pct]`` with ``at`` in s
-    (``over = "time"``) or m (``over = "position"``), linearly interpolated, held at the ends.
+    The models disregard the object on purpose (the paper's driver is "asleep at
+    the wheel or distracted by a cell phone"); each key below says which models
+    read it. Equations: :mod:`cosim.world.driver_models`.
     """
 
-    model: str = field(default="full_throttle",
-                       metadata=_c("full_throttle", "cruise", "scripted", "hold_speed"))
-    accel_pedal_pct: float = field(default=100.0, metadata=_r(0.0, 100.0))
-    set_speed_mps: float = field(default=20.0, metadata=_r(0.0, 80.0))
-    gain_pct_per_mps: float = field(default=20.0, metadata=_r(0.0, 1000.0))
-    #: ``hold_speed`` only: integral gain (% per m of accumulated speed error).
-    integral_gain_pct_per_m: float = field(default=10.0, metadata=_r(0.0, 1000.0))
-    #: ``hold_speed`` only: release the accelerator for good once the speed is this far
-    #: below the set speed (Euro NCAP robot: 5 km/h); 0 = never release.
-    release_drop_mps: float = field(default=0.0, metadata=_r(0.0, 80.0))
-    over: str = field(default="time", metadata=_c("time", "position"))
-    points: tuple[tuple[float, float, float], ...] = ()
+    model: str = setting("full_throttle", allowed=("full_throttle", "cruise", "scripted", "hold_speed"),
+                         doc="the driver model (see Driver models)")
+    accel_pedal_pct: float = setting(100.0, unit="%", allowed=Range(0.0, 100.0),
+                                     doc="full_throttle: the accelerator pedal, held whatever happens")
+    set_speed_mps: float = setting(20.0, unit="m/s", allowed=Range(0.0, 80.0), doc="cruise, hold_speed: the speed held")
+    gain_pct_per_mps: float = setting(20.0, unit="%/(m/s)", allowed=Range(0.0, 1000.0),
+                                      doc="cruise, hold_speed: proportional gain on the speed error")
+    integral_gain_pct_per_m: float = setting(10.0, unit="%/m", allowed=Range(0.0, 1000.0),
+                                             doc="hold_speed: integral gain on the accumulated speed error")
+    release_drop_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 80.0),
+                                      doc="hold_speed: release the accelerator for good once the speed is this "
+                                          "far below the set speed (Euro NCAP robot: 5 km/h); 0 = never")
+    over: str = setting("time", allowed=("time", "position"),
+                        doc="scripted: the breakpoints' abscissa, time (s) or position (m)")
+    points: tuple[tuple[float, float, float], ...] = setting(
+        (), kind=POINTS, doc="scripted: rows [at, accel_pct, brake_pct], linearly interpolated, held at the ends")
 
 
 @dataclass(frozen=True)
 class ObjectConfig:
     """``[object]`` or one of ``[[objects]]``: a body on or beside the path.
 
-    ``position_m`` is the object's rear at t = 0 on the path; it occupies
-    ``[rear, rear + length_m]`` along the path and ``lateral_m ± width_m/2``
-    across it (left positive), and moves at ``speed_mps`` along the path.
+    Path coordinates: ``x`` along the path, in the coordinate of the plant's
+    position output (the ego's front bumper is that output plus
+    ``[plant] front_bumper_offset_m``; the builtin plant starts with its front
+    bumper at x = 0, so there ``position_m`` is the initial gap); ``y`` across
+    it, left positive. ``position_m`` is the object's REAR at t = 0; the object
+    occupies ``[rear, rear + length_m]`` along the path and
+    ``lateral_m ± width_m/2`` across it, and moves at ``speed_mps`` along it.
     Longitudinal profile: constant speed, or braking at ``brake_decel_mps2``
     (reached linearly within ``brake_ramp_s``) down to ``brake_to_speed_mps``,
     starting at ``brake_at_s`` or when the ego's gap first falls to
@@ -170,66 +171,61 @@ class ObjectConfig:
     :mod:`cosim.world.scene_motion`.
     """
 
-    enabled: bool = True
-    name: str = "object"
-    position_m: float = field(default=225.0, metadata=_r(-1e5, 1e5))
-    speed_mps: float = field(default=0.0, metadata=_r(-80.0, 80.0))
-    length_m: float = field(default=1.8, metadata=_r(0.0, 50.0))
-    width_m: float = field(default=0.6, metadata=_r(0.0, 10.0))
-    lateral_m: float = field(default=0.0, metadata=_r(-20.0, 20.0))
-    brake_decel_mps2: float = field(default=0.0, metadata=_r(0.0, 15.0))
-    brake_ramp_s: float = field(default=0.0, metadata=_r(0.0, 10.0))
-    brake_to_speed_mps: float = field(default=0.0, metadata=_r(0.0, 80.0))
-    brake_at_s: float | None = field(default=None, metadata=_r(0.0, 3600.0))
-    brake_at_gap_m: float | None = field(default=None, metadata=_r(0.0, 1e4))
-    lateral_speed_mps: float = field(default=0.0, metadata=_r(0.0, 10.0))
-    lateral_end_m: float | None = field(default=None, metadata=_r(-20.0, 20.0))
-    lateral_at_s: float | None = field(default=None, metadata=_r(0.0, 3600.0))
-    lateral_at_gap_m: float | None = field(default=None, metadata=_r(0.0, 1e4))
+    enabled: bool = setting(True, doc="false: no object (an empty road)")
+    name: str = setting("object", doc="the object's name (reports, events)")
+    position_m: float = setting(225.0, unit="m", allowed=Range(-1e5, 1e5),
+                                doc="the object's rear at t = 0, along the path (see above)")
+    speed_mps: float = setting(0.0, unit="m/s", allowed=Range(-80.0, 80.0), doc="speed along the path")
+    length_m: float = setting(1.8, unit="m", allowed=Range(0.0, 50.0), doc="length along the path")
+    width_m: float = setting(0.6, unit="m", allowed=Range(0.0, 10.0), doc="width across the path")
+    lateral_m: float = setting(0.0, unit="m", allowed=Range(-20.0, 20.0),
+                               doc="centre's offset across the path, left positive")
+    brake_decel_mps2: float = setting(0.0, unit="m/s^2", allowed=Range(0.0, 15.0), doc="braking; 0 = never brakes")
+    brake_ramp_s: float = setting(0.0, unit="s", allowed=Range(0.0, 10.0), doc="time to reach brake_decel_mps2")
+    brake_to_speed_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 80.0), doc="braking ends at this speed")
+    brake_at_s: float | None = setting(None, unit="s", allowed=Range(0.0, 3600.0), doc="braking starts at this time")
+    brake_at_gap_m: float | None = setting(None, unit="m", allowed=Range(0.0, 1e4),
+                                           doc="... or once the ego's gap first falls to this")
+    lateral_speed_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 10.0), doc="lateral speed toward lateral_end_m")
+    lateral_end_m: float | None = setting(None, unit="m", allowed=Range(-20.0, 20.0), doc="lateral motion ends here")
+    lateral_at_s: float | None = setting(None, unit="s", allowed=Range(0.0, 3600.0), doc="lateral motion starts at this time")
+    lateral_at_gap_m: float | None = setting(None, unit="m", allowed=Range(0.0, 1e4),
+                                             doc="... or once the ego's gap first falls to this")
 
 
 @dataclass(frozen=True)
 class RadarConfig:
     """``[radar]``: range (front bumper → object rear) and range rate every 50 ms.
 
-    ``latency_s`` is rounded to whole ECU cycles; noise is zero-mean Gaussian
-    with the given standard deviations from a generator seeded by
-    ``[scenario] seed``; beyond ``max_range_m`` or on a dropout (probability
-    per update) the track reports ``ObjectValid = 0``.
+    Noise is zero-mean Gaussian from a generator seeded by ``[scenario] seed``;
+    beyond ``max_range_m``, outside the field of view or on a dropout the track
+    reports ``ObjectValid = 0``.
     """
 
-    latency_s: float = field(default=0.0, metadata=_r(0.0, 1.0))
-    range_noise_std_m: float = field(default=0.0, metadata=_r(0.0, 10.0))
-    range_rate_noise_std_mps: float = field(default=0.0, metadata=_r(0.0, 10.0))
-    max_range_m: float = field(default=200.0, metadata=_r(1.0, 250.0))
-    dropout_probability: float = field(default=0.0, metadata=_r(0.0, 1.0))
-    #: full horizontal field of view (deg); an object whose nearest rear corner is
-    #: outside ``±fov/2`` of the bore sight is not seen. Default ±45°: the near-range
-    #: beam of a mid-range automotive radar (class value, [M]).
-    field_of_view_deg: float = field(default=90.0, metadata=_r(1.0, 180.0))
+    latency_s: float = setting(0.0, unit="s", allowed=Range(0.0, 1.0),
+                               doc="measurement-to-bus latency, rounded to whole ECU cycles")
+    range_noise_std_m: float = setting(0.0, unit="m", allowed=Range(0.0, 10.0), doc="standard deviation of range noise")
+    range_rate_noise_std_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 10.0),
+                                              doc="standard deviation of range-rate noise")
+    max_range_m: float = setting(200.0, unit="m", allowed=Range(1.0, 250.0), doc="objects beyond are not reported")
+    dropout_probability: float = setting(0.0, allowed=Range(0.0, 1.0), doc="probability per update of no track")
+    field_of_view_deg: float = setting(
+        90.0, unit="deg", allowed=Range(1.0, 180.0),
+        doc="full horizontal field of view; an object whose nearest rear corner is outside ±fov/2 of the "
+            "bore sight is not seen (default ±45°: the near-range beam of a mid-range automotive radar)")
 
 
 @dataclass(frozen=True)
 class GatewayConfig:
-    """``[gateway]``: the brake/powertrain ECU that applies ``SafetyOverride``.
+    """``[gateway]``: the brake/powertrain ECU that applies ``SafetyOverride``."""
 
-    ``brake_full_decel_mps2`` maps the ECU's deceleration request to a brake
-    command: ``brake = min(1, request / brake_full_decel_mps2)``. Default
-    12 m/s² = the builtin plant's ``max_brake_force / mass`` = 18000 N / 1500 kg.
-    ``override_timeout_s``: silence (or an invalid E2E score) longer than this
-    falls back to the driver's commands alone.
-    """
-
-    brake_full_decel_mps2: float = field(default=12.0, metadata=_r(1.0, 30.0))
-    override_timeout_s: float = field(default=timeout_s("SafetyOverride"), metadata=_r(ECU_CYCLE_S, 1.0))
-
-
-@dataclass(frozen=True)
-class EcuSection:
-    """``[ecu]``: the strategy and any ``EcuConfig`` parameter (checked by ``EcuConfig.from_dict``)."""
-
-    strategy: str = field(default="tightening", metadata=_c(*STRATEGIES))
-    parameters: Mapping[str, object] = field(default_factory=lambda: MappingProxyType({}))
+    brake_full_decel_mps2: float = setting(
+        12.0, unit="m/s^2", allowed=Range(1.0, 30.0),
+        doc="maps the ECU's deceleration request to a brake command: brake = min(1, request / this); "
+            "default: the builtin plant's max_brake_force / mass = 18000 N / 1500 kg")
+    override_timeout_s: float = setting(
+        timeout_s("SafetyOverride"), unit="s", allowed=Range(ECU_CYCLE_S, 1.0),
+        doc="silence (or an invalid E2E score) longer than this falls back to the driver's commands alone")
 
 
 #: events ``[checks] expect_events`` may name: the faults that otherwise make a run exit 4
@@ -239,50 +235,47 @@ EXPECTABLE_EVENTS = ("ecu_lost", "second_ecu", "auth_failure", "ecu_security_fau
 
 @dataclass(frozen=True)
 class ChecksConfig:
-    """``[checks]``: expectations on the run's metrics; ``None`` = not checked.
+    """``[checks]``: expectations on the run's metrics; unset = not checked."""
 
-    ``expect_events``: fault events this scenario provokes on purpose (e.g. ``["ecu_lost"]``):
-    each must occur (else the check fails, exit 3), and does not make the run exit 4.
-    """
-
-    no_collision: bool | None = None
-    min_gap_m: float | None = field(default=None, metadata=_r(-1e5, 1e5))
-    max_impact_speed_mps: float | None = field(default=None, metadata=_r(0.0, 200.0))
-    min_contingency_invocations: int | None = field(default=None, metadata=_r(0, 10**6))
-    max_contingency_invocations: int | None = field(default=None, metadata=_r(0, 10**6))
-    expect_events: tuple[str, ...] = ()
+    no_collision: bool | None = setting(None, doc="the run must (true) or must not (false) end without contact")
+    min_gap_m: float | None = setting(None, unit="m", allowed=Range(-1e5, 1e5), doc="the closest gap must stay above")
+    max_impact_speed_mps: float | None = setting(None, unit="m/s", allowed=Range(0.0, 200.0),
+                                                 doc="highest allowed relative impact speed")
+    min_contingency_invocations: int | None = setting(None, allowed=Range(0, 10**6), doc="at least this many contingencies")
+    max_contingency_invocations: int | None = setting(None, allowed=Range(0, 10**6), doc="at most this many contingencies")
+    expect_events: tuple[str, ...] = setting(
+        (), kind=event_names(EXPECTABLE_EVENTS),
+        doc="fault events this scenario provokes on purpose (e.g. [\"ecu_lost\"]): each must occur (else the "
+            "check fails, exit 3), and does not make the run exit 4")
 
 
 @dataclass(frozen=True)
 class EndConfig:
-    """``[end]``: conditions that end the run early (contact and ``duration_s`` always do).
+    """``[end]``: conditions that end the run early (contact and ``duration_s`` always do)."""
 
-    ``standstill``: the ego's speed falls to ``standstill_speed_mps`` after having been
-    above it. ``matched_speed``: the ego's speed falls to that of the nearest object
-    ahead in its path after having been ``matched_speed_margin_mps`` above it (Euro
-    NCAP's end of a longitudinal test: the VUT reaches the target's speed).
-    """
-
-    standstill: bool = False
-    matched_speed: bool = False
-    standstill_speed_mps: float = field(default=0.01, metadata=_r(0.0, 5.0))
-    matched_speed_margin_mps: float = field(default=0.5, metadata=_r(0.0, 10.0))
+    standstill: bool = setting(False, doc="end once the ego's speed falls to standstill_speed_mps after having "
+                                          "been above it")
+    matched_speed: bool = setting(False, doc="end once the ego's speed falls to that of the nearest object ahead "
+                                             "in its path after having been matched_speed_margin_mps above it "
+                                             "(Euro NCAP's end of a longitudinal test)")
+    standstill_speed_mps: float = setting(0.01, unit="m/s", allowed=Range(0.0, 5.0), doc="see standstill")
+    matched_speed_margin_mps: float = setting(0.5, unit="m/s", allowed=Range(0.0, 10.0), doc="see matched_speed")
 
 
 @dataclass(frozen=True)
 class Scenario:
     """A whole scenario file (``objects``: the ``[[objects]]`` array; then ``object`` is disabled)."""
 
-    scenario: ScenarioSection = ScenarioSection()
-    plant: PlantConfig = PlantConfig()
-    driver: DriverConfig = DriverConfig()
-    object: ObjectConfig = ObjectConfig()
-    radar: RadarConfig = RadarConfig()
-    gateway: GatewayConfig = GatewayConfig()
-    ecu: EcuSection = EcuSection()
-    checks: ChecksConfig = ChecksConfig()
-    objects: tuple[ObjectConfig, ...] = ()
-    end: EndConfig = EndConfig()
+    scenario: ScenarioSection = setting(ScenarioSection(), doc="name, duration, step, seed, start time")
+    plant: PlantConfig = setting(PlantConfig(), doc="the vehicle FMU")
+    driver: DriverConfig = setting(DriverConfig(), doc="the driver model")
+    object: ObjectConfig = setting(ObjectConfig(), doc="one object (or [[objects]], not both)")
+    radar: RadarConfig = setting(RadarConfig(), doc="the radar model")
+    gateway: GatewayConfig = setting(GatewayConfig(), doc="the brake/powertrain ECU")
+    ecu: EcuConfig = setting(EcuConfig(), doc="the collision-avoidance ECU: every EcuConfig key")
+    checks: ChecksConfig = setting(ChecksConfig(), doc="expectations on the run")
+    objects: tuple[ObjectConfig, ...] = setting((), doc="several objects, each an [object] table")
+    end: EndConfig = setting(EndConfig(), doc="early end conditions")
 
     def scene_objects(self) -> tuple[ObjectConfig, ...]:
         """Every enabled object: ``[[objects]]`` if given, else the single ``[object]``."""

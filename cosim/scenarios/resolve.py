@@ -1,54 +1,46 @@
 """A :class:`~cosim.scenarios.config.Scenario` back to a plain mapping / TOML text.
 
-The resolved file reads back through :func:`cosim.scenarios.loader.scenario_from_dict`
-to an equal scenario, so a run can be repeated exactly.
+Generic over the declared keys (:func:`ecu.settings.keys`): a nested
+dataclass becomes a table, a list of them an array of tables, a field with a
+:class:`~ecu.settings.Kind` is written by the kind's ``dump``. The resolved
+file reads back through :func:`cosim.scenarios.loader.scenario_from_dict` to an
+equal scenario, so a run can be repeated exactly.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
+from typing import Any, Mapping
 
-from .config import Scenario, SignalMap
+from ecu.settings import keys
+
+from .config import Scenario
 from .toml_writer import dumps
-
-
-def _maps(maps: tuple[SignalMap, ...]) -> dict[str, Any]:
-    return {m.role: {"name": list(m.names) if m.role == "wheel_speeds" else m.names[0],
-                     "scale": m.scale, "offset": m.offset} for m in maps}
 
 
 def scenario_to_dict(scenario: Scenario, strategy: str | None = None) -> dict[str, Any]:
     """Plain nested dict of every resolved value (defaults included)."""
-    out: dict[str, Any] = {}
-    for section in dataclasses.fields(scenario):
-        value = getattr(scenario, section.name)
-        if section.name == "objects":
-            if value:  # [[objects]] replaces [object]
-                out.pop("object", None)
-                out["objects"] = [_table(section.name, o) for o in value]
-            continue
-        out[section.name] = _table(section.name, value)
+    out = plain(scenario)
+    out.pop("object" if out["objects"] else "objects")  # [[objects]] replaces [object]
     if strategy is not None:
         out["ecu"]["strategy"] = strategy
     return out
 
 
-def _table(section: str, value: Any) -> dict[str, Any]:
+def plain(obj: Any) -> Any:
+    """A declared dataclass as nested dicts of its keys' values, in declaration order."""
     table: dict[str, Any] = {}
-    for f in dataclasses.fields(value):
-        v = getattr(value, f.name)
-        if f.name in ("inputs", "outputs", "initial"):
-            table[f.name] = _maps(v)
-        elif f.name == "parameters":
-            if section == "ecu":
-                table.update(v)
-            else:
-                table[f.name] = dict(v)
-        elif f.name == "points":
-            table[f.name] = [list(row) for row in v]
-        else:
-            table[f.name] = v
+    for key in keys(type(obj)).values():
+        value = getattr(obj, key.name)
+        if key.declared.kind is not None:
+            value = key.declared.kind.dump(value)
+        elif dataclasses.is_dataclass(value):
+            value = plain(value)
+        elif isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0]):
+            value = [plain(v) for v in value]
+        elif isinstance(value, Mapping):
+            value = dict(value)
+        table[key.name] = value
     return table
 
 

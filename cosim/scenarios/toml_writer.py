@@ -12,7 +12,8 @@ import math
 from typing import Any, Mapping
 
 
-def _value(v: Any) -> str:
+def value_text(v: Any) -> str:
+    """``v`` as a TOML value (inline)."""
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, int):
@@ -24,9 +25,9 @@ def _value(v: Any) -> str:
     if isinstance(v, str):
         return json.dumps(v)  # a JSON string is a valid TOML basic string
     if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
+        return "[" + ", ".join(value_text(x) for x in v) + "]"
     if isinstance(v, Mapping):
-        return "{ " + ", ".join(f"{_key(k)} = {_value(x)}" for k, x in v.items() if x is not None) + " }"
+        return "{ " + ", ".join(f"{_key(k)} = {value_text(x)}" for k, x in v.items() if x is not None) + " }"
     raise TypeError(f"TOML value: unsupported type {type(v).__name__}")
 
 
@@ -48,6 +49,6 @@ def _table(data: Mapping[str, Any], path: list[str], lines: list[str]) -> None:
         lines.append("")
         lines.append("[" + ".".join(_key(p) for p in path) + "]")
     for k, v in scalars.items():
-        lines.append(f"{_key(k)} = {_value(v)}")
+        lines.append(f"{_key(k)} = {value_text(v)}")
     for k, v in tables.items():
         _table(v, path + [k], lines)

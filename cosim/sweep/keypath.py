@@ -4,8 +4,8 @@ A key path is dot-separated names, each optionally followed by list indices
 (``name[i][j]``). :func:`parse` splits it into steps (``str`` for a table key,
 ``int`` for a list index); :func:`check` walks it over a *schema view* of the
 scenario (every key the scenario knows, with its current value) and raises
-:class:`~cosim.errors.ConfigError` naming the path, with the scenario loader's
-own suggestion for a near miss; :func:`assign` writes a value into a plain
+a :class:`~ecu.settings.SettingError` naming the path, in the one format of the
+configuration loader (:func:`ecu.settings.unknown_key` for a near miss); :func:`assign` writes a value into a plain
 mapping at that path. Nothing here knows the scenario's sections: the resolver
 is generic over nested tables and lists, so new sections or arrays of tables
 resolve without change.
@@ -16,8 +16,7 @@ from __future__ import annotations
 import re
 from typing import Any, Mapping, MutableMapping, Sequence
 
-from ..errors import ConfigError
-from ..scenarios.loader import _unknown as unknown_key_error  # the loader's message and suggestion
+from ecu.settings import SettingError, unknown_key
 
 Step = str | int
 _SEGMENT = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)$")
@@ -26,12 +25,12 @@ _SEGMENT = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)$")
 def parse(path: str) -> tuple[Step, ...]:
     """``"objects[0].speed_mps"`` -> ``("objects", 0, "speed_mps")``; a malformed path is a ConfigError."""
     if not isinstance(path, str) or not path:
-        raise ConfigError(f"key path: expected a non-empty string such as 'plant.road_friction', got {path!r}")
+        raise SettingError("", f"expected a non-empty key path such as 'plant.road_friction', got {path!r}")
     steps: list[Step] = []
     for segment in path.split("."):
         match = _SEGMENT.match(segment)
         if match is None:
-            raise ConfigError(f"key path {path!r}: expected name or name[index] segments, got {segment!r}")
+            raise SettingError("", f"expected a key path of name or name[index] segments, got {path!r}")
         steps.append(match.group(1))
         steps.extend(int(i) for i in re.findall(r"\[(\d+)\]", match.group(2)))
     return tuple(steps)
@@ -48,29 +47,32 @@ def render(steps: Sequence[Step]) -> str:
 def check(schema: Mapping[str, Any], path: str) -> Any:
     """Walk ``path`` over ``schema``; return the value found there (the base value).
 
-    An unknown key raises the loader's ``unknown key 'a.b'; did you mean ...`` error;
+    An unknown key raises the loader's ``a.b: unknown key; did you mean a.c?`` error;
     an index on a non-list or past the end, or a key below a scalar, names the path.
     """
     steps = parse(path)
     node: Any = schema
     for n, step in enumerate(steps):
-        here = render(steps[:n])
+        here, there = render(steps[:n]), render(steps[:n + 1])
         if isinstance(step, int):
             if not isinstance(node, list):
-                raise ConfigError(f"key path {path!r}: {here!r} is not a list, cannot index it with [{step}]")
+                raise SettingError(there, f"expected a list to index, {here} is {_what(node)}")
             if step >= len(node):
-                raise ConfigError(f"key path {path!r}: index [{step}] out of range; {here!r} has {len(node)} entries")
+                raise SettingError(there, f"index out of range; {here} has {len(node)} entries")
             node = node[step]
         else:
             if not isinstance(node, Mapping):
-                kind = "a list" if isinstance(node, list) else f"a value ({node!r})"
-                raise ConfigError(f"key path {path!r}: {here!r} is {kind}, it has no key {step!r}")
+                raise SettingError(there, f"expected a table, {here} is {_what(node)}")
             if step not in node:
-                raise unknown_key_error(step, here, node.keys())
+                raise unknown_key(here, step, node.keys())
             node = node[step]
     if isinstance(node, (Mapping, list)):
-        raise ConfigError(f"key path {path!r}: names a table or list, expected a single value")
+        raise SettingError(path, f"expected a single value, got {_what(node)}")
     return node
+
+
+def _what(node: Any) -> str:
+    return "a table" if isinstance(node, Mapping) else "a list" if isinstance(node, list) else f"a value ({node!r})"
 
 
 def assign(mapping: MutableMapping[str, Any], path: str, value: Any) -> None:

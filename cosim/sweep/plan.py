@@ -1,10 +1,11 @@
 """From a :class:`~cosim.sweep.spec.SweepSpec` to the list of runs, each a resolved scenario.
 
 The *resolved mapping* of the base scenario is every value it uses, defaults
-included (:func:`cosim.scenarios.resolve.scenario_to_dict`, plus every
-``EcuConfig`` field under ``ecu``). Axis key paths are checked against a
-*schema view*: that mapping plus the plant FMU's parameters under
-``plant.parameters`` (read from its model description). Each run is the
+included (:func:`cosim.scenarios.resolve.scenario_to_dict`; ``ecu`` holds every
+``EcuConfig`` key). Axis key paths are checked against a *schema view*: that
+mapping plus, in every table declared as FMU start values
+(:data:`cosim.scenarios.kinds.FMU_START_VALUES`, ``plant.parameters``), the
+plant FMU's parameters (read from its model description). Each run is the
 mapping with its axis values written in; it reads back through
 :func:`cosim.scenarios.loader.scenario_from_dict` on the worker, so a value the
 loader, the ECU or the FMU refuses fails that run only.
@@ -18,7 +19,6 @@ only on the sweep file and the scenario, never on the run's position or worker.
 from __future__ import annotations
 
 import copy
-import dataclasses
 import hashlib
 import json
 import logging
@@ -28,10 +28,12 @@ from typing import Any
 
 from fmpy import read_model_description
 
+from ecu.settings import walk
+
 from ..errors import ConfigError
 from ..loop.experiment import resolve_fmu
-from ..loop.master import ecu_config
 from ..scenarios.config import Scenario
+from ..scenarios.kinds import FMU_START_VALUES
 from ..scenarios.loader import load_scenario
 from ..scenarios.resolve import scenario_to_dict
 from . import keypath
@@ -64,10 +66,7 @@ class SweepPlan:
 
 def resolved_mapping(scenario: Scenario) -> dict[str, Any]:
     """Every value the scenario uses, as plain nested dicts (``None`` = not set)."""
-    data = scenario_to_dict(scenario)
-    ecu = ecu_config(scenario)
-    data["ecu"].update({f.name: getattr(ecu, f.name) for f in dataclasses.fields(ecu) if f.init})
-    return json.loads(json.dumps(data))  # tuples -> lists, plain types only
+    return json.loads(json.dumps(scenario_to_dict(scenario)))  # tuples -> lists, plain types only
 
 
 def _start_value(var: Any) -> Any:
@@ -90,11 +89,15 @@ def _fmu_parameters(fmu_path: Path) -> dict[str, Any]:
 
 
 def schema_view(mapping: dict[str, Any], fmu_path: Path) -> dict[str, Any]:
-    """The mapping plus every FMU parameter under ``plant.parameters``: every key an axis may name."""
+    """The mapping plus every FMU parameter in each table of FMU start values: every key an axis may name."""
     schema = copy.deepcopy(mapping)
-    params = schema.setdefault("plant", {}).setdefault("parameters", {})
-    for name, start in _fmu_parameters(fmu_path).items():
-        params.setdefault(name, start)
+    for path, key in walk(Scenario):
+        if key.declared.kind is FMU_START_VALUES:
+            node = schema
+            for step in keypath.parse(path):
+                node = node.setdefault(step, {})
+            for name, start in _fmu_parameters(fmu_path).items():
+                node.setdefault(name, start)
     return schema
 
 

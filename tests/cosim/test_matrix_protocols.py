@@ -4,7 +4,9 @@ import pytest
 
 from cosim.errors import ConfigError
 from cosim.matrix.catalogue import bundled, load_catalogue
-from cosim.matrix.scoring import Outcome, interventions, ncap_colour, ncap_points, score_cell, worst
+from cosim.matrix.scoring import Outcome, interventions, worst
+from cosim.matrix.scorings import score_cell
+from cosim.matrix.scorings.ncap import ncap_colour, ncap_points
 from cosim.scenarios.loader import scenario_from_dict
 
 
@@ -32,7 +34,7 @@ def test_ncap_extended_cell_scores_one_unless_red():
 
 
 def test_ncap_points_are_the_protocols_and_average_over_cells():
-    points = load_catalogue("ncap_ccr").scoring_table["points"]
+    points = load_catalogue("ncap_ccr").scoring_table.points
     assert points == {"CCRs": 1.2, "CCRm": 2.4, "CCRb": 1.6, "CBLA": 2.0}
     rows = [{"strategy": "s", "group": "CCRs", "score": s} for s in (1.0, 0.5)]
     assert ncap_points(rows, points)["s"] == {"CCRs": pytest.approx(0.9), "total": pytest.approx(0.9)}
@@ -81,7 +83,7 @@ def test_r152_pass_is_impact_at_most_the_limit(limit, impact, passed):
 @pytest.mark.parametrize("name, mu", [("r152_m1_mu07", 0.7), ("r152_m1_mu05", 0.5), ("r152_m1", 1.0)])
 def test_wet_extensions_keep_the_r152_limits_on_another_friction(name, mu):
     dry, wet = cells("r152_m1"), load_catalogue(name).cells
-    assert all(c.get("road_friction", 1.0) == mu for c in wet)
+    assert all(c.get("road_friction") == mu for c in wet)
     assert sorted(c.get("max_impact_kmh") for c in wet) == sorted(c.get("max_impact_kmh") for c in dry.values())
 
 
@@ -130,13 +132,14 @@ def test_every_bundled_cell_is_a_valid_scenario_and_phases_shift_the_encounter()
 
 @pytest.mark.parametrize("text, fragment", [
     ('[catalogue]\nscoring = "r152"\n[sources]\nx = "y"\n[targets]\n[[series]]\ngroup = "g"\n'
-     'ego_speed_kmh = [10]\ntarget = "car"\nsource = "x"\nspeed = 3\n', "series[0].speed: unknown key"),
+     'ego_speed_kmh = [10]\ntarget = "car"\nsource = "x"\nspeed = 3\n', "series[0].speed: unknown key; expected one of group,"),
     ('[catalogue]\nscoring = "ncap"\n[sources]\nx = "y"\n[targets.car]\nlength_m = 4.0\nwidth_m = 1.7\n'
      'source = "nope"\n[[series]]\n', "targets.car.source: unknown source 'nope'"),
     ('[catalogue]\nscoring = "r152"\n[sources]\nx = "y"\n[targets.car]\nlength_m = 4.0\nwidth_m = 1.7\n'
      'source = "x"\n[[series]]\ngroup = "g"\nego_speed_kmh = [10, 20]\nmax_impact_kmh = [0]\ntarget = "car"\n'
      'source = "x"\n', "series[0].max_impact_kmh: expected 2 values"),
-    ('[catalogue]\nscoring = "euro"\n', "catalogue.scoring"),
+    ('[catalogue]\nscoring = "euro"\n', "catalogue.scoring: expected one of ['r152', 'ncap', 'false_positive', 'follow'], got 'euro'"),
+    ('[catalogue]\nscoring = "ncapp"\n', "catalogue.scoring: expected one of ['r152', 'ncap', 'false_positive', 'follow'], got 'ncapp'; did you mean 'ncap'?"),
 ])
 def test_catalogue_errors_name_the_file_and_key(tmp_path, text, fragment):
     path = tmp_path / "bad.toml"
@@ -160,5 +163,18 @@ def test_cell_values_are_type_checked(tmp_path):
     path.write_text('[catalogue]\nscoring = "r152"\n[sources]\nx = "y"\n[targets.car]\nlength_m = 4.0\n'
                     'width_m = 1.7\nsource = "x"\n[[series]]\ngroup = "g"\nego_speed_kmh = [10, -5]\n'
                     'max_impact_kmh = 0\ntarget = "car"\nsource = "x"\n')
-    with pytest.raises(ConfigError, match=r"series\[0\].ego_speed_kmh: expected a finite number >= 0, got -5"):
+    with pytest.raises(ConfigError, match=r"bad.toml: series\[0\].ego_speed_kmh\[1\]: expected a value in \[0, 300\] km/h, got -5$"):
         load_catalogue(path)
+
+
+def test_scorings_are_a_registry_and_an_unknown_name_is_an_error():
+    from cosim.errors import ConfigError as Error
+    from cosim.matrix.catalogue import CatalogueHead
+    from cosim.matrix.scorings import SCORINGS
+    from ecu.settings import keys
+
+    assert all(name == s.name for name, s in SCORINGS.items())
+    assert keys(CatalogueHead)["scoring"].declared.choices == tuple(SCORINGS)  # the catalogue key offers the table
+    assert {load_catalogue(n).scoring for n in bundled()} == set(SCORINGS)  # every scoring is used
+    with pytest.raises(Error, match=r"^catalogue\.scoring: expected one of \[.*\], got 'folow'; did you mean 'follow'\?$"):
+        score_cell("folow", {}, outcome(low=3.0))  # once fell through to follow's rule

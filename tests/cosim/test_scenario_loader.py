@@ -11,20 +11,22 @@ from cosim.cli.paper import PAPER_SCENARIO
 
 
 @pytest.mark.parametrize("data, path, suggestion", [
-    ({"scenario": {"duraton_s": 3.0}}, "scenario.duraton_s", "duration_s"),
-    ({"plant": {"inputs": {"throtle": "x"}}}, "plant.inputs.throtle", "throttle"),
-    ({"radar": {"latency": 0.1}}, "radar.latency", "latency_s"),
+    ({"scenario": {"duraton_s": 3.0}}, "scenario.duraton_s", "scenario.duration_s"),
+    ({"plant": {"inputs": {"throtle": "x"}}}, "plant.inputs.throtle", "plant.inputs.throttle"),
+    ({"radar": {"latency": 0.1}}, "radar.latency", "radar.latency_s"),
     ({"objct": {}}, "objct", "object"),
+    ({"ecu": {"standof_m": 3.0}}, "ecu.standof_m", "ecu.standoff_m"),
+    ({"objects": [{}, {"sped_mps": 1.0}]}, "objects[1].sped_mps", "objects[1].speed_mps"),
+    ({"plant": {"inputs": {"throttle": {"nme": "x"}}}}, "plant.inputs.throttle.nme", "plant.inputs.throttle.name"),
 ])
 def test_unknown_key_names_path_and_suggests(data, path, suggestion):
     with pytest.raises(ConfigError) as err:
         scenario_from_dict(data)
-    assert repr(path) in str(err.value)
-    assert f"did you mean {suggestion!r}" in str(err.value)
+    assert str(err.value) == f"{path}: unknown key; did you mean {suggestion}?"
 
 
 @pytest.mark.parametrize("data, fragment", [
-    ({"radar": {"max_range_m": 500.0}}, "radar.max_range_m: expected 1 <= value <= 250, got 500.0"),
+    ({"radar": {"max_range_m": 500.0}}, "radar.max_range_m: expected a value in [1, 250] m, got 500.0"),
     ({"scenario": {"step_s": 0.003}}, "scenario.step_s"),
     ({"radar": {"dropout_probability": -0.1}}, "radar.dropout_probability"),
     ({"driver": {"model": "cruse"}}, "did you mean 'cruise'"),
@@ -46,7 +48,7 @@ def test_third_party_fmu_needs_mappings():
 def test_file_errors_name_the_file(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text("[scenario]\nduration = 3\n")
-    with pytest.raises(ConfigError, match=r"bad.toml: unknown key 'scenario.duration'"):
+    with pytest.raises(ConfigError, match=r"bad.toml: scenario.duration: unknown key; did you mean scenario.duration_s\?$"):
         load_scenario(bad)
     with pytest.raises(ConfigError, match="not found"):
         load_scenario(tmp_path / "missing.toml")
@@ -91,3 +93,27 @@ def test_bad_start_time_names_the_key(toml, fragment):
     with pytest.raises(ConfigError) as err:
         scenario_from_dict(tomllib.loads("[scenario]\n" + toml + "\n"))
     assert str(err.value).startswith("scenario.start_time: expected") and fragment in str(err.value)
+
+
+def test_ecu_and_plant_nest_the_same_way():
+    """[ecu] holds EcuConfig's keys directly, like every section; [plant.parameters] is one declared table."""
+    from ecu import EcuConfig
+
+    sc = scenario_from_dict({"ecu": {"strategy": "none", "peak_decel_mps2": 6.5},
+                             "plant": {"parameters": {"brake_dead_time": 0.15, "n": 2, "on": True}}})
+    assert sc.ecu == EcuConfig(strategy="none", peak_decel_mps2=6.5)
+    assert dict(sc.plant.parameters) == {"brake_dead_time": 0.15, "n": 2, "on": True}
+    resolved = tomllib.loads(scenario_to_toml(sc))
+    assert set(resolved["ecu"]) == set(EcuConfig.keys()) and resolved["ecu"]["peak_decel_mps2"] == 6.5
+    assert resolved["plant"]["parameters"] == {"brake_dead_time": 0.15, "n": 2, "on": True}
+    assert scenario_from_dict(resolved) == sc
+    with pytest.raises(ConfigError, match=r"^plant\.parameters\.x: expected a scalar, got \[1\]$"):
+        scenario_from_dict({"plant": {"parameters": {"x": [1]}}})
+
+
+def test_paper_strategies_are_one_list():
+    from can_dbc.contract import STRATEGIES
+    from cosim.results import paper_claims
+    from cosim.scenarios.config import PAPER_STRATEGIES
+
+    assert paper_claims.REQUIRED is PAPER_STRATEGIES and set(PAPER_STRATEGIES) < set(STRATEGIES)

@@ -120,7 +120,7 @@ def test_objects_array_loads_and_round_trips():
 
 @pytest.mark.parametrize("data, fragment", [
     ({"object": {}, "objects": [{}]}, "either [object] or [[objects]]"),
-    ({"objects": [{}, {"accel_mps2": 1.0}]}, "unknown key 'objects[1].accel_mps2'"),
+    ({"objects": [{}, {"accel_mps2": 1.0}]}, "objects[1].accel_mps2: unknown key; "),
     ({"objects": [{"brake_decel_mps2": 30.0}]}, "objects[0].brake_decel_mps2"),
     ({"objects": []}, "objects: expected one or more"),
     ({"plant": {"fmu": "x.fmu", "initial_speed_mps": 5.0, "inputs": {"accel_command": "a"},
