@@ -14,7 +14,7 @@ from tests.fmu.golden_longitudinal import SEQUENCES, digest, load_golden, run_se
 from tests.fmu.plant_runner import OUTPUTS
 
 #: the steering inputs, held straight
-STRAIGHT: dict[str, float] = {}
+STRAIGHT = {"steering_wheel_angle": 0.0, "steer_request": 0.0}
 
 
 @pytest.mark.parametrize("version", [2, 3])
