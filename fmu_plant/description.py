@@ -15,7 +15,7 @@ from fmu_plant.variables import VARIABLES, PlantVariable
 MODEL_NAME = "VehiclePlant"
 MODEL_IDENTIFIER = "vehicle_plant"
 DESCRIPTION = ("Planar vehicle plant: single-track lateral and yaw dynamics, steering actuator, powertrain and brake"
-               " lags, Magic Formula tyres with a friction circle, ABS")
+               " lags, Magic Formula tyres in a friction ellipse, ABS")
 #: internal fixed step, s (PLANT_STEP_S in src/model.h)
 INTERNAL_STEP_S = 1e-3
 #: C files compiled into the FMU, per FMI version; they and every header in src/ ship in

@@ -11,7 +11,7 @@
  *   tyres       kappa = (w r - u) / max(u, V_FLOOR) with u the wheel's own forward speed,
  *               Fx = mu D Fz sin(C atan(B k - E (B k - atan(B k))))
  *   wheels      J dw/dt = T_drive - T_brake - Fx r     (linearly implicit Euler, w >= 0)
- *   lateral     Fy within the friction circle Fx leaves (planar.c)
+ *   lateral     Fy within the friction ellipse Fx leaves (planar.c)
  *   chassis     m dv/dt = (tyre forces along the velocity) - F_aero - m g sin(grade) - F_roll   (v >= 0)
  *   body        sideslip, yaw rate and pose (planar.c)
  * With the wheel straight the planar terms are exact zeros and ones, so every longitudinal
@@ -82,7 +82,7 @@ void plant_initialize(PlantModel *m) {
     k->cg_to_rear_axle = p->wheelbase - p->cg_to_front_axle;
     k->longitudinal = (TyreShape){p->tyre_B, p->tyre_C, p->tyre_E};
     /* B C D = the cornering stiffness per unit load: the slope at zero slip angle */
-    k->lateral = (TyreShape){p->tyre_cornering_stiffness / (p->tyre_lateral_C * p->tyre_D),
+    k->lateral = (TyreShape){p->tyre_cornering_stiffness / (p->tyre_lateral_C * p->tyre_lateral_D),
                              p->tyre_lateral_C, p->tyre_lateral_E};
     plant_planar_initialize(m);
     plant_publish_outputs(m);

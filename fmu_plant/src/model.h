@@ -62,7 +62,7 @@ typedef struct {
     double alpha_steer;     /* 1 - exp(-h / steering_time_constant), 1 without a lag */
     double cg_to_rear_axle; /* wheelbase - cg_to_front_axle */
     TyreShape longitudinal; /* tyre_B, tyre_C, tyre_E */
-    TyreShape lateral;      /* B from the cornering stiffness, tyre_lateral_C, tyre_lateral_E */
+    TyreShape lateral;      /* B from the cornering stiffness, tyre_lateral_C and _D; tyre_lateral_E */
 } PlantDerived;
 
 /* The planar kinematics of one step: cos and sin of the sideslip and road-wheel angles, and
@@ -112,7 +112,7 @@ void plant_planar_initialize(PlantModel *m);
 void plant_steering_step(PlantModel *m, double h, double a_steer);
 /* planar.c: the kinematics of the current v, beta, yaw rate and delta. */
 void plant_planar_kinematics(const PlantModel *m, PlanarKinematics *kin);
-/* planar.c: lateral tyre forces within the friction circle the longitudinal forces leave. */
+/* planar.c: lateral tyre forces within the friction ellipse the longitudinal forces leave. */
 void plant_lateral_forces(const PlantModel *m, const double fz_n[PLANT_AXLES], const PlanarKinematics *kin,
                           AxleForces *f);
 /* planar.c: the axle forces resolved along and across the velocity, and the yaw moment. */

@@ -1,11 +1,12 @@
 /* Planar motion of the vehicle plant: the steering actuator, the single-track lateral and yaw
- * dynamics of the CommonRoad ST model with Magic Formula tyres in a friction circle, its
+ * dynamics of the CommonRoad ST model with Magic Formula tyres in a friction ellipse, its
  * kinematic form at low speed, and the pose (fmu_plant/README.md, "Planar motion").
  *
  *   steering  d_cmd = clamp(sw / i_s + d_req, +-d_max),  d += clamp(a_s (d_cmd - d), +-dd_max h)
  *   slip      alpha = atan2(-w, |u|) per axle; (u, w) the contact-point velocity in the wheel frame
- *   tyres     Fy0 = mu D Fz sin(C atan(B alpha - E (B alpha - atan(B alpha)))),  B C D = C_alpha / Fz
- *             Fy = Fy0 sqrt(1 - (Fx / (mu D Fz))^2): the lateral force gets what Fx leaves
+ *   tyres     Fy0 = mu D_y Fz sin(C_y atan(B_y alpha - E_y (B_y alpha - atan(B_y alpha)))),
+ *             B_y C_y D_y = C_alpha / Fz;  Fy = Fy0 sqrt(1 - (Fx / (mu D_x Fz))^2): the friction
+ *             ellipse, the lateral force gets what the longitudinal force Fx leaves
  *   body      m v (beta' + r) = Fxf sin(d - beta) + Fyf cos(d - beta) - Fxr sin(beta) + Fyr cos(beta)
  *             I r' = l_f (Fxf sin(d) + Fyf cos(d)) - l_r Fyr          (linearly implicit Euler)
  *   slow      v < 0.1 m/s: beta = atan(l_r tan(d) / L),  r = v cos(beta) tan(d) / L   (kinematic)
@@ -74,16 +75,17 @@ void plant_lateral_forces(const PlantModel *m, const double fz_n[PLANT_AXLES], c
     const PlantVariables *p = &m->var;
     bool kinematic = m->st.v_mps < KINEMATIC_SPEED_MPS;
     for (int axle = 0; axle < PLANT_AXLES; ++axle) {
-        double peak = p->road_friction * p->tyre_D * fz_n[axle];
+        double peak_x = p->road_friction * p->tyre_D * fz_n[axle];
+        double peak_y = p->road_friction * p->tyre_lateral_D * fz_n[axle];
         f->fy[axle] = 0.0;
         f->fy_slope[axle] = 0.0;
-        if (kinematic || !(peak > 0.0)) {
+        if (kinematic || !(peak_x > 0.0 && peak_y > 0.0)) {
             continue;
         }
         double alpha = atan2(-kin->w[axle], fabs(kin->u[axle]));
         double slope;
-        double fy = plant_magic_formula(&m->k.lateral, alpha, peak, &slope);
-        double share = f->fx[axle] / peak;  /* |Fx| <= peak: axle_step clamps it */
+        double fy = plant_magic_formula(&m->k.lateral, alpha, peak_y, &slope);
+        double share = f->fx[axle] / peak_x;  /* |Fx| <= peak_x: axle_step clamps it */
         double room = sqrt(fmax(0.0, 1.0 - share * share));
         f->fy[axle] = fy * room;
         f->fy_slope[axle] = fmax(slope, 0.0) * room;
