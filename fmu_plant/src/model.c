@@ -11,7 +11,7 @@
  *   tyres       kappa = (w r - u) / max(u, V_FLOOR) with u the wheel's own forward speed,
  *               Fx = mu D Fz sin(C atan(B k - E (B k - atan(B k))))
  *   wheels      J dw/dt = T_drive - T_brake - Fx r     (linearly implicit Euler, w >= 0)
- *   lateral     Fy within the friction ellipse Fx leaves (planar.c)
+ *   lateral     Fy from the slip angle (planar.c); Fx and Fy limited together to the friction ellipse
  *   chassis     m dv/dt = (tyre forces along the velocity) - F_aero - m g sin(grade) - F_roll   (v >= 0)
  *   body        sideslip, yaw rate and pose (planar.c)
  * With the wheel straight the planar terms are exact zeros and ones, so every longitudinal
@@ -154,8 +154,9 @@ static void abs_modulate(PlantModel *m, int axle, double kappa, double h) {
 
 /* One axle: tyre force and linearly implicit wheel update; u_mps is the contact point's
  * forward speed in the wheel's frame (the vehicle speed while the wheel is straight).
- * Returns Fx, N. */
-static double axle_step(PlantModel *m, int axle, double fz_n, double u_mps, double h) {
+ * f holds the axle's pure lateral force; both forces are limited together to the friction
+ * ellipse (planar.c). Returns Fx, N. */
+static double axle_step(PlantModel *m, int axle, double fz_n, double u_mps, AxleForces *f, double h) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
     double r = p->wheel_radius;
@@ -165,6 +166,13 @@ static double axle_step(PlantModel *m, int axle, double fz_n, double u_mps, doub
     double peak = p->road_friction * p->tyre_D * fz_n;
     double slope;
     double fx = plant_magic_formula(&m->k.longitudinal, kappa, peak, &slope);
+    if (f->fy[axle] != 0.0) {  /* with the wheel straight this is skipped: Fx as before */
+        double scale = plant_friction_ellipse(m, fz_n, fx, f->fy[axle]);
+        fx *= scale;
+        slope *= scale;
+        f->fy[axle] *= scale;
+        f->fy_slope[axle] *= scale;
+    }
     abs_modulate(m, axle, kappa, h);
     double t_drive = m->k.drive_share[axle] * s->drive_force_n * r;
     double t_brake = m->k.brake_share[axle] * s->axle_pressure[axle] * p->max_brake_force * r;
@@ -224,9 +232,9 @@ void plant_step(PlantModel *m, double h, bool enters_cell) {
     PlanarKinematics kin;
     plant_planar_kinematics(m, &kin);
     AxleForces f;
-    f.fx[PLANT_FRONT] = axle_step(m, PLANT_FRONT, fz[PLANT_FRONT], kin.u[PLANT_FRONT], h);
-    f.fx[PLANT_REAR] = axle_step(m, PLANT_REAR, fz[PLANT_REAR], kin.u[PLANT_REAR], h);
     plant_lateral_forces(m, fz, &kin, &f);
+    f.fx[PLANT_FRONT] = axle_step(m, PLANT_FRONT, fz[PLANT_FRONT], kin.u[PLANT_FRONT], &f, h);
+    f.fx[PLANT_REAR] = axle_step(m, PLANT_REAR, fz[PLANT_REAR], kin.u[PLANT_REAR], &f, h);
     BodyForces body = plant_body_forces(m, &kin, &f);
     double v = s->v_mps;
     double f_aero = 0.5 * p->air_density * p->drag_area * v * v;

@@ -112,9 +112,12 @@ void plant_planar_initialize(PlantModel *m);
 void plant_steering_step(PlantModel *m, double h, double a_steer);
 /* planar.c: the kinematics of the current v, beta, yaw rate and delta. */
 void plant_planar_kinematics(const PlantModel *m, PlanarKinematics *kin);
-/* planar.c: lateral tyre forces within the friction ellipse the longitudinal forces leave. */
+/* planar.c: the pure-slip lateral tyre forces and their slopes (the wheel step then limits
+ * them with the longitudinal forces to the friction ellipse). */
 void plant_lateral_forces(const PlantModel *m, const double fz_n[PLANT_AXLES], const PlanarKinematics *kin,
                           AxleForces *f);
+/* planar.c: the factor (<= 1) that puts an axle's pure-slip forces on its friction ellipse. */
+double plant_friction_ellipse(const PlantModel *m, double fz_n, double fx_n, double fy_n);
 /* planar.c: the axle forces resolved along and across the velocity, and the yaw moment. */
 BodyForces plant_body_forces(const PlantModel *m, const PlanarKinematics *kin, const AxleForces *f);
 /* planar.c: sideslip, yaw rate, heading, position and lateral acceleration over h, given the

@@ -5,8 +5,8 @@
  *   steering  d_cmd = clamp(sw / i_s + d_req, +-d_max),  d += clamp(a_s (d_cmd - d), +-dd_max h)
  *   slip      alpha = atan2(-w, |u|) per axle; (u, w) the contact-point velocity in the wheel frame
  *   tyres     Fy0 = mu D_y Fz sin(C_y atan(B_y alpha - E_y (B_y alpha - atan(B_y alpha)))),
- *             B_y C_y D_y = C_alpha / Fz;  Fy = Fy0 sqrt(1 - (Fx / (mu D_x Fz))^2): the friction
- *             ellipse, the lateral force gets what the longitudinal force Fx leaves
+ *             B_y C_y D_y = C_alpha / Fz;  friction ellipse: where (Fx0 / (mu D_x Fz))^2 +
+ *             (Fy0 / (mu D_y Fz))^2 = q > 1, both forces shrink by 1 / sqrt(q)
  *   body      m v (beta' + r) = Fxf sin(d - beta) + Fyf cos(d - beta) - Fxr sin(beta) + Fyr cos(beta)
  *             I r' = l_f (Fxf sin(d) + Fyf cos(d)) - l_r Fyr          (linearly implicit Euler)
  *   slow      v < 0.1 m/s: beta = atan(l_r tan(d) / L),  r = v cos(beta) tan(d) / L   (kinematic)
@@ -75,21 +75,32 @@ void plant_lateral_forces(const PlantModel *m, const double fz_n[PLANT_AXLES], c
     const PlantVariables *p = &m->var;
     bool kinematic = m->st.v_mps < KINEMATIC_SPEED_MPS;
     for (int axle = 0; axle < PLANT_AXLES; ++axle) {
-        double peak_x = p->road_friction * p->tyre_D * fz_n[axle];
-        double peak_y = p->road_friction * p->tyre_lateral_D * fz_n[axle];
+        double peak = p->road_friction * p->tyre_lateral_D * fz_n[axle];
         f->fy[axle] = 0.0;
         f->fy_slope[axle] = 0.0;
-        if (kinematic || !(peak_x > 0.0 && peak_y > 0.0)) {
+        if (kinematic || !(peak > 0.0)) {
             continue;
         }
         double alpha = atan2(-kin->w[axle], fabs(kin->u[axle]));
         double slope;
-        double fy = plant_magic_formula(&m->k.lateral, alpha, peak_y, &slope);
-        double share = f->fx[axle] / peak_x;  /* |Fx| <= peak_x: axle_step clamps it */
-        double room = sqrt(fmax(0.0, 1.0 - share * share));
-        f->fy[axle] = fy * room;
-        f->fy_slope[axle] = fmax(slope, 0.0) * room;
+        f->fy[axle] = plant_magic_formula(&m->k.lateral, alpha, peak, &slope);
+        f->fy_slope[axle] = fmax(slope, 0.0);
     }
+}
+
+/* The friction ellipse (J. Y. Wong, "Theory of Ground Vehicles", ch. 1, tractive effort and
+ * cornering force): a tyre's resultant force lies within (Fx / Fx_max)^2 + (Fy / Fy_max)^2 <= 1.
+ * Pure-slip forces outside it are scaled together onto it, keeping their direction. */
+double plant_friction_ellipse(const PlantModel *m, double fz_n, double fx_n, double fy_n) {
+    const PlantVariables *p = &m->var;
+    double peak_x = p->road_friction * p->tyre_D * fz_n;
+    double peak_y = p->road_friction * p->tyre_lateral_D * fz_n;
+    if (!(peak_x > 0.0 && peak_y > 0.0)) {
+        return 0.0;  /* no load or no friction: no force */
+    }
+    double qx = fx_n / peak_x, qy = fy_n / peak_y;
+    double q = qx * qx + qy * qy;
+    return q > 1.0 ? 1.0 / sqrt(q) : 1.0;
 }
 
 BodyForces plant_body_forces(const PlantModel *m, const PlanarKinematics *kin, const AxleForces *f) {
