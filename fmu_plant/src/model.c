@@ -244,7 +244,7 @@ void plant_step(PlantModel *m, double h, bool enters_cell) {
     double v_new = v + h * (body.along - f_aero - f_grade) / p->mass;
     v_new = v_new > 0.0 ? fmax(0.0, v_new - h * f_roll / p->mass) : 0.0;
     s->a_mps2 = (v_new - v) / h;
-    plant_planar_step(m, h, &body, &f, v_new);
+    plant_planar_step(m, h, &kin, &body, &f, v_new);
     s->v_mps = v_new;
 }
 

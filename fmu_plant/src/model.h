@@ -122,7 +122,8 @@ double plant_friction_ellipse(const PlantModel *m, double fz_n, double fx_n, dou
 BodyForces plant_body_forces(const PlantModel *m, const PlanarKinematics *kin, const AxleForces *f);
 /* planar.c: sideslip, yaw rate, heading, position and lateral acceleration over h, given the
  * speed before (v) and after (v_new) the longitudinal update. */
-void plant_planar_step(PlantModel *m, double h, const BodyForces *b, const AxleForces *f, double v_new);
+void plant_planar_step(PlantModel *m, double h, const PlanarKinematics *kin, const BodyForces *b,
+                       const AxleForces *f, double v_new);
 
 /* Check relations between parameters that single ranges cannot express.
  * Returns NULL if fine, else writes a message naming the parameters into buf. */

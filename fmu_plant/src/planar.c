@@ -55,12 +55,22 @@ void plant_steering_step(PlantModel *m, double h, double a_steer) {
     s->delta_rad = plant_clamp(s->delta_rad + change, -p->steering_angle_max, p->steering_angle_max);
 }
 
+/* cos and sin of an angle; of 0 without a call (the values the call would give): while the car
+ * drives straight its sideslip and road-wheel angles are exactly 0. */
+static void cos_sin(double angle, double *c, double *s) {
+    if (angle == 0.0) {
+        *c = 1.0;
+        *s = angle;
+        return;
+    }
+    *c = cos(angle);
+    *s = sin(angle);
+}
+
 void plant_planar_kinematics(const PlantModel *m, PlanarKinematics *kin) {
     const PlantState *s = &m->st;
-    kin->cos_beta = cos(s->beta_rad);
-    kin->sin_beta = sin(s->beta_rad);
-    kin->cos_delta = cos(s->delta_rad);
-    kin->sin_delta = sin(s->delta_rad);
+    cos_sin(s->beta_rad, &kin->cos_beta, &kin->sin_beta);
+    cos_sin(s->delta_rad, &kin->cos_delta, &kin->sin_delta);
     double u = s->v_mps * kin->cos_beta;  /* the body's velocity at its centre of gravity */
     double w = s->v_mps * kin->sin_beta;
     double w_front = w + m->var.cg_to_front_axle * s->yaw_rate_radps;
@@ -79,6 +89,10 @@ void plant_lateral_forces(const PlantModel *m, const double fz_n[PLANT_AXLES], c
         f->fy[axle] = 0.0;
         f->fy_slope[axle] = 0.0;
         if (kinematic || !(peak > 0.0)) {
+            continue;
+        }
+        if (kin->w[axle] == 0.0) {  /* rolling straight: no slip angle, no force */
+            f->fy_slope[axle] = m->var.tyre_cornering_stiffness * m->var.road_friction * fz_n[axle];
             continue;
         }
         double alpha = atan2(-kin->w[axle], fabs(kin->u[axle]));
@@ -140,7 +154,8 @@ static void dynamic_step(PlantModel *m, double h, const BodyForces *b, const Axl
     s->yaw_rate_radps += h * (a11 * f_r - a21 * f_beta) / det;
 }
 
-void plant_planar_step(PlantModel *m, double h, const BodyForces *b, const AxleForces *f, double v_new) {
+void plant_planar_step(PlantModel *m, double h, const PlanarKinematics *kin, const BodyForces *b,
+                       const AxleForces *f, double v_new) {
     PlantState *s = &m->st;
     double v = s->v_mps, beta = s->beta_rad, yaw = s->yaw_rad, r = s->yaw_rate_radps;
     if (v < KINEMATIC_SPEED_MPS) {
@@ -152,9 +167,12 @@ void plant_planar_step(PlantModel *m, double h, const BodyForces *b, const AxleF
     s->yaw_rad += 0.5 * h * (r + s->yaw_rate_radps);
     double course = 0.5 * ((yaw + s->yaw_rad) + (beta + s->beta_rad));
     double ds = 0.5 * (v + v_new) * h;
-    s->x_m += ds * cos(course);
-    s->y_m += ds * sin(course);
-    /* across the velocity v (beta' + r); in the vehicle frame with the along-track part */
+    double c, sn;
+    cos_sin(course, &c, &sn);
+    s->x_m += ds * c;
+    s->y_m += ds * sn;
+    /* across the velocity v (beta' + r); in the vehicle frame with the along-track part (the
+     * sideslip of the step's start) */
     double a_across = 0.5 * (v + v_new) * ((s->beta_rad - beta) + (s->yaw_rad - yaw)) / h;
-    s->ay_mps2 = s->a_mps2 * sin(s->beta_rad) + a_across * cos(s->beta_rad);
+    s->ay_mps2 = s->a_mps2 * kin->sin_beta + a_across * kin->cos_beta;
 }
