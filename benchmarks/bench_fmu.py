@@ -191,7 +191,8 @@ def side_by_side(base: str, planar: str, rounds: int) -> None:
             line = f"  {name:18s} median {statistics.median(values):8.3f} {unit}"
             if name != "today":
                 ratios = [a / b for a, b in zip(values, rows["today"])]
-                line += f"   ratio to today: median {statistics.median(ratios):.3f} (min {min(ratios):.3f}, max {max(ratios):.3f})"
+                line += (f"   ratio to today: median {statistics.median(ratios):.3f}"
+                         f" (min {min(ratios):.3f}, max {max(ratios):.3f})")
             print(line)
 
 

@@ -60,7 +60,8 @@ class Path:
             raise PathError("path: expected finite coordinates, got NaN or inf")
         seg = np.hypot(np.diff(x), np.diff(y))
         if (seg <= 0.0).any():
-            raise PathError(f"path: consecutive points must differ; point {int(np.argmin(seg)) + 1} repeats the one before")
+            index = int(np.argmin(seg)) + 1
+            raise PathError(f"path: consecutive points must differ; point {index} repeats the one before")
         x.flags.writeable = False
         y.flags.writeable = False
         return cls(x, y)
