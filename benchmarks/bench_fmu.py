@@ -216,10 +216,10 @@ def main(argv: list[str] | None = None) -> None:
         print(f"C model cost, {label}: {best:.3f} us per 1 ms internal step (goal <= 2 us)")
     for with_io, label in ((False, "doStep only"), (True, "doStep + setReal(2) + getReal(3)")):
         best = min(fmpy_loop_s(fmu, 60.0, with_io) for _ in range(3))
-        print(f"60 s through fmpy at 1 ms steps, {label}: {best:.3f} s wall (goal <= 0.5 s)")
+        print(f"60 s through fmpy at 1 ms steps, {label}: {best:.3f} s CPU (goal <= 0.5 s)")
     best = min(fmpy_raw_loop_s(fmu, 60.0) for _ in range(3))
     print(f"60 s through fmpy at 1 ms steps, raw fmi2SetReal/DoStep/GetReal with ctypes arrays: "
-          f"{best:.3f} s wall (goal <= 0.5 s)")
+          f"{best:.3f} s CPU (goal <= 0.5 s)")
     cal = calibration(fmu)
     print(f"0-100 km/h: {cal['t100_s']:.2f} s; peak dry ABS deceleration (100 ms mean): "
           f"{cal['peak_decel_mps2']:.2f} m/s^2; stop from 100 km/h: {cal['stop_m']:.2f} m in {cal['stop_s']:.2f} s")
