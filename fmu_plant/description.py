@@ -14,12 +14,13 @@ from fmu_plant.variables import VARIABLES, PlantVariable
 
 MODEL_NAME = "VehiclePlant"
 MODEL_IDENTIFIER = "vehicle_plant"
-DESCRIPTION = "Longitudinal vehicle plant: powertrain and brake lags, Magic Formula tyres, ABS"
+DESCRIPTION = ("Planar vehicle plant: single-track lateral and yaw dynamics, steering actuator, powertrain and brake"
+               " lags, Magic Formula tyres in a friction ellipse, ABS")
 #: internal fixed step, s (PLANT_STEP_S in src/model.h)
 INTERNAL_STEP_S = 1e-3
 #: C files compiled into the FMU, per FMI version; they and every header in src/ ship in
 #: the FMU's sources/ folder together with the generated plant_token.h
-_COMMON_C = ("variables.c", "model.c", "framework.c", "framework_values.c")
+_COMMON_C = ("variables.c", "model.c", "planar.c", "framework.c", "framework_values.c")
 SOURCE_FILES: dict[int, tuple[str, ...]] = {2: (*_COMMON_C, "fmi2_api.c"), 3: (*_COMMON_C, "fmi3_api.c")}
 #: headers and included fragments shipped in sources/ (besides plant_token.h)
 SOURCE_HEADERS: dict[int, tuple[str, ...]] = {
@@ -37,6 +38,7 @@ UNIT_BASES: dict[str, dict[str, int]] = {
     "m/s2": {"m": 1, "s": -2},
     "rad": {"rad": 1},
     "rad/s": {"rad": 1, "s": -1},
+    "1/rad": {"rad": -1},
     "N": {"kg": 1, "m": 1, "s": -2},
     "W": {"kg": 1, "m": 2, "s": -3},
     "kg": {"kg": 1},

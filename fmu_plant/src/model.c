@@ -1,14 +1,21 @@
-/* Equations of the longitudinal vehicle plant (see fmu_plant/README.md).
+/* Longitudinal equations of the vehicle plant and the step that joins them with the planar
+ * motion of planar.c (see fmu_plant/README.md).
  *
  * One step of h <= PLANT_STEP_S (normally exactly PLANT_STEP_S; shorter only where a
  * communication point falls between two points of the 1 ms grid):
+ *   steering    the road-wheel angle follows the command through a lag and a rate limit (planar.c)
  *   powertrain  F_lag += a_t (throttle * F_max - F_lag),  F_d = min(F_lag, P_max / max(w_d r, 1 m/s))
  *   brakes      u = min(brake(t - T_d), brake(t - f_d T_d)),  p += a (u - p) with a from tau_b
  *               while p rises and from f_tau tau_b while it falls (release: no pad travel,
  *               the valves open; f_d = f_tau = 1 by default),  per-axle ABS modulation of p
- *   tyres       kappa = (w r - v) / max(v, V_FLOOR),  Fx = mu D Fz sin(C atan(B k - E (B k - atan(B k))))
+ *   tyres       kappa = (w r - u) / max(u, V_FLOOR) with u the wheel's own forward speed,
+ *               Fx = mu D Fz sin(C atan(B k - E (B k - atan(B k))))
  *   wheels      J dw/dt = T_drive - T_brake - Fx r     (linearly implicit Euler, w >= 0)
- *   chassis     m dv/dt = sum Fx - F_aero - m g sin(grade) - F_roll   (v >= 0)
+ *   lateral     Fy from the slip angle (planar.c); Fx and Fy limited together to the friction ellipse
+ *   chassis     m dv/dt = (tyre forces along the velocity) - F_aero - m g sin(grade) - F_roll   (v >= 0)
+ *   body        sideslip, yaw rate and pose (planar.c)
+ * With the wheel straight the planar terms are exact zeros and ones, so every longitudinal
+ * output is the longitudinal-only plant's bit for bit (tests/fmu/test_longitudinal_golden.py).
  * Deterministic: no state outside PlantModel, no accumulated time. */
 #include "model.h"
 
@@ -29,10 +36,6 @@
 #define ABS_APPLY_RATE_PER_S 4.0
 /* ABS cycling ends when the pedal pressure falls below this. */
 #define ABS_PEDAL_RELEASED 0.02
-
-static double clamp(double x, double lo, double hi) {
-    return x < lo ? lo : (x > hi ? hi : x);
-}
 
 const char *plant_check_parameters(const PlantModel *m, char *buf, size_t len) {
     const PlantVariables *p = &m->var;
@@ -61,6 +64,8 @@ void plant_initialize(PlantModel *m) {
     *s = (PlantState){0};
     s->v_mps = p->v0;
     s->x_m = p->x0;
+    s->y_m = p->y0;
+    s->yaw_rad = p->yaw0;
     s->omega_radps[PLANT_FRONT] = p->v0 / p->wheel_radius;
     s->omega_radps[PLANT_REAR] = p->v0 / p->wheel_radius;
     s->delay_len = (int)lround(p->brake_dead_time / PLANT_STEP_S);
@@ -73,6 +78,13 @@ void plant_initialize(PlantModel *m) {
     k->brake_share[PLANT_REAR] = 1.0 - p->brake_front_share;
     k->drive_share[PLANT_FRONT] = p->drive_front_share;
     k->drive_share[PLANT_REAR] = 1.0 - p->drive_front_share;
+    k->alpha_steer = plant_lag_factor(PLANT_STEP_S, p->steering_time_constant);
+    k->cg_to_rear_axle = p->wheelbase - p->cg_to_front_axle;
+    k->longitudinal = (TyreShape){p->tyre_B, p->tyre_C, p->tyre_E};
+    /* B C D = the cornering stiffness per unit load: the slope at zero slip angle */
+    k->lateral = (TyreShape){p->tyre_cornering_stiffness / (p->tyre_lateral_C * p->tyre_lateral_D),
+                             p->tyre_lateral_C, p->tyre_lateral_E};
+    plant_planar_initialize(m);
     plant_publish_outputs(m);
 }
 
@@ -94,13 +106,14 @@ static double delayed_brake(PlantState *s, double brake) {
     return out;
 }
 
-/* Longitudinal Magic Formula (Pacejka 2012, eq. 4.49) and its slope dF/dkappa. */
-static double magic_formula(const PlantVariables *p, double kappa, double peak_n, double *slope) {
-    double bk = p->tyre_B * kappa;
-    double phi = bk - p->tyre_E * (bk - atan(bk));
-    double dphi = p->tyre_B * (1.0 - p->tyre_E + p->tyre_E / (1.0 + bk * bk));
-    double theta = p->tyre_C * atan(phi);
-    *slope = peak_n * cos(theta) * p->tyre_C / (1.0 + phi * phi) * dphi;
+/* Magic Formula (Pacejka 2012, eq. 4.49) F = peak sin(C atan(B x - E (B x - atan(B x))))
+ * and its slope dF/dx. */
+double plant_magic_formula(const TyreShape *t, double x, double peak_n, double *slope) {
+    double bk = t->B * x;
+    double phi = bk - t->E * (bk - atan(bk));
+    double dphi = t->B * (1.0 - t->E + t->E / (1.0 + bk * bk));
+    double theta = t->C * atan(phi);
+    *slope = peak_n * cos(theta) * t->C / (1.0 + phi * phi) * dphi;
     return peak_n * sin(theta);
 }
 
@@ -110,8 +123,8 @@ static void axle_loads(const PlantModel *m, double fz[PLANT_AXLES]) {
     double weight = p->mass * GRAVITY_MPS2;
     double lr = p->wheelbase - p->cg_to_front_axle;
     double transfer = (p->mass * m->st.a_mps2 + weight * sin(p->grade)) * p->cg_height;
-    fz[PLANT_FRONT] = clamp((weight * cos(p->grade) * lr - transfer) / p->wheelbase, 0.0, weight);
-    fz[PLANT_REAR] = clamp(weight * cos(p->grade) - fz[PLANT_FRONT], 0.0, weight);
+    fz[PLANT_FRONT] = plant_clamp((weight * cos(p->grade) * lr - transfer) / p->wheelbase, 0.0, weight);
+    fz[PLANT_REAR] = plant_clamp(weight * cos(p->grade) - fz[PLANT_FRONT], 0.0, weight);
 }
 
 /* ABS, three-phase (dump / hold / re-apply) on the braking slip -kappa:
@@ -139,17 +152,27 @@ static void abs_modulate(PlantModel *m, int axle, double kappa, double h) {
     *pa = fmin(*pa, s->pressure);
 }
 
-/* One axle: tyre force and linearly implicit wheel update. Returns Fx, N. */
-static double axle_step(PlantModel *m, int axle, double fz_n, double h) {
+/* One axle: tyre force and linearly implicit wheel update; u_mps is the contact point's
+ * forward speed in the wheel's frame (the vehicle speed while the wheel is straight).
+ * f holds the axle's pure lateral force; both forces are limited together to the friction
+ * ellipse (planar.c). Returns Fx, N. */
+static double axle_step(PlantModel *m, int axle, double fz_n, double u_mps, AxleForces *f, double h) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
     double r = p->wheel_radius;
     double w = s->omega_radps[axle];
-    double den = fmax(s->v_mps, SLIP_SPEED_FLOOR_MPS);
-    double kappa = (w * r - s->v_mps) / den;
+    double den = fmax(u_mps, SLIP_SPEED_FLOOR_MPS);
+    double kappa = (w * r - u_mps) / den;
     double peak = p->road_friction * p->tyre_D * fz_n;
     double slope;
-    double fx = magic_formula(p, kappa, peak, &slope);
+    double fx = plant_magic_formula(&m->k.longitudinal, kappa, peak, &slope);
+    if (f->fy[axle] != 0.0) {  /* with the wheel straight this is skipped: Fx as before */
+        double scale = plant_friction_ellipse(m, fz_n, fx, f->fy[axle]);
+        fx *= scale;
+        slope *= scale;
+        f->fy[axle] *= scale;
+        f->fy_slope[axle] *= scale;
+    }
     abs_modulate(m, axle, kappa, h);
     double t_drive = m->k.drive_share[axle] * s->drive_force_n * r;
     double t_brake = m->k.brake_share[axle] * s->axle_pressure[axle] * p->max_brake_force * r;
@@ -161,30 +184,32 @@ static double axle_step(PlantModel *m, int axle, double fz_n, double h) {
         w_new = 0.0; /* the brake holds the wheel; nothing turns it backwards */
     }
     s->omega_radps[axle] = w_new;
-    return clamp(fx + stiff * (w_new - w), -peak, peak);
+    return plant_clamp(fx + stiff * (w_new - w), -peak, peak);
 }
 
-/* First-order lag factors 1 - exp(-h/tau): the ones derived at initialisation for a
- * full step (so whole steps compute exactly what they always did), else for h. */
-static void lag_factors(const PlantModel *m, double h, double *a_throttle, double *a_brake,
-                        double *a_release) {
+double plant_lag_factor(double h, double tau) {
+    return tau > 0.0 ? 1.0 - exp(-h / tau) : 1.0;
+}
+
+/* First-order lag factors of one step: the ones derived at initialisation for a full step
+ * (so whole steps compute exactly what they always did), else for h. */
+typedef struct {
+    double throttle, brake, release, steer;
+} LagFactors;
+
+static LagFactors lag_factors(const PlantModel *m, double h) {
     if (h == PLANT_STEP_S) {
-        *a_throttle = m->k.alpha_throttle;
-        *a_brake = m->k.alpha_brake;
-        *a_release = m->k.alpha_release;
-        return;
+        return (LagFactors){m->k.alpha_throttle, m->k.alpha_brake, m->k.alpha_release, m->k.alpha_steer};
     }
-    *a_throttle = 1.0 - exp(-h / m->var.throttle_time_constant);
-    *a_brake = 1.0 - exp(-h / m->var.brake_time_constant);
-    *a_release = 1.0 - exp(-h / release_tau(&m->var));
+    const PlantVariables *p = &m->var;
+    return (LagFactors){plant_lag_factor(h, p->throttle_time_constant), plant_lag_factor(h, p->brake_time_constant),
+                        plant_lag_factor(h, release_tau(p)), plant_lag_factor(h, p->steering_time_constant)};
 }
 
-static void powertrain_and_brake_step(PlantModel *m, double h, bool enters_cell) {
+static void powertrain_and_brake_step(PlantModel *m, const LagFactors *lag, bool enters_cell) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
-    double a_throttle, a_brake, a_release;
-    lag_factors(m, h, &a_throttle, &a_brake, &a_release);
-    s->drive_force_lag_n += a_throttle * (p->throttle * p->max_drive_force - s->drive_force_lag_n);
+    s->drive_force_lag_n += lag->throttle * (p->throttle * p->max_drive_force - s->drive_force_lag_n);
     double w_driven = m->k.drive_share[PLANT_FRONT] * s->omega_radps[PLANT_FRONT] +
                       m->k.drive_share[PLANT_REAR] * s->omega_radps[PLANT_REAR];
     double v_driven = fmax(w_driven * p->wheel_radius, POWER_SPEED_FLOOR_MPS);
@@ -192,27 +217,34 @@ static void powertrain_and_brake_step(PlantModel *m, double h, bool enters_cell)
     if (enters_cell) {
         s->brake_delayed = delayed_brake(s, p->brake);
     }
-    double a_p = s->brake_delayed < s->pressure ? a_release : a_brake;
+    double a_p = s->brake_delayed < s->pressure ? lag->release : lag->brake;
     s->pressure += a_p * (s->brake_delayed - s->pressure);
 }
 
 void plant_step(PlantModel *m, double h, bool enters_cell) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
-    powertrain_and_brake_step(m, h, enters_cell);
+    LagFactors lag = lag_factors(m, h);
+    plant_steering_step(m, h, lag.steer);
+    powertrain_and_brake_step(m, &lag, enters_cell);
     double fz[PLANT_AXLES];
     axle_loads(m, fz);
-    double fx = axle_step(m, PLANT_FRONT, fz[PLANT_FRONT], h) +
-                axle_step(m, PLANT_REAR, fz[PLANT_REAR], h);
+    PlanarKinematics kin;
+    plant_planar_kinematics(m, &kin);
+    AxleForces f;
+    plant_lateral_forces(m, fz, &kin, &f);
+    f.fx[PLANT_FRONT] = axle_step(m, PLANT_FRONT, fz[PLANT_FRONT], kin.u[PLANT_FRONT], &f, h);
+    f.fx[PLANT_REAR] = axle_step(m, PLANT_REAR, fz[PLANT_REAR], kin.u[PLANT_REAR], &f, h);
+    BodyForces body = plant_body_forces(m, &kin, &f);
     double v = s->v_mps;
     double f_aero = 0.5 * p->air_density * p->drag_area * v * v;
     double f_grade = p->mass * GRAVITY_MPS2 * sin(p->grade);
     double f_roll = p->rolling_resistance * p->mass * GRAVITY_MPS2 * cos(p->grade);
     /* Rolling resistance is Coulomb-like: it stops the car but never reverses it. */
-    double v_new = v + h * (fx - f_aero - f_grade) / p->mass;
+    double v_new = v + h * (body.along - f_aero - f_grade) / p->mass;
     v_new = v_new > 0.0 ? fmax(0.0, v_new - h * f_roll / p->mass) : 0.0;
     s->a_mps2 = (v_new - v) / h;
-    s->x_m += 0.5 * (v + v_new) * h;
+    plant_planar_step(m, h, &kin, &body, &f, v_new);
     s->v_mps = v_new;
 }
 
@@ -228,4 +260,11 @@ void plant_publish_outputs(PlantModel *m) {
     p->wheel_speed_rr = s->omega_radps[PLANT_REAR];
     p->brake_pressure = s->pressure * p->max_brake_force;
     p->drive_force = s->drive_force_n;
+    p->y = s->y_m;
+    p->yaw = s->yaw_rad;
+    p->yaw_rate = s->yaw_rate_radps;
+    p->ay = s->ay_mps2;
+    p->vx = s->v_mps * cos(s->beta_rad);
+    p->vy = s->v_mps * sin(s->beta_rad);
+    p->delta = s->delta_rad;
 }

@@ -1,5 +1,6 @@
-/* The longitudinal vehicle plant: state, derived constants and one fixed step.
- * The equations are in model.c and written out in fmu_plant/README.md. */
+/* The planar vehicle plant: state, derived constants and one fixed step.
+ * The equations are in model.c (longitudinal) and planar.c (steering, lateral and yaw
+ * motion, pose) and written out in fmu_plant/README.md. */
 #ifndef PLANT_MODEL_H
 #define PLANT_MODEL_H
 
@@ -36,7 +37,19 @@ typedef struct {
     int delay_len;
     int release_delay_len;             /* steps of the shorter release dead time */
     int delay_head;
+    /* planar motion (planar.c) */
+    double delta_rad;                  /* road-wheel angle after the steering actuator */
+    double beta_rad;                   /* sideslip angle at the centre of gravity */
+    double yaw_rate_radps;
+    double yaw_rad;
+    double y_m;
+    double ay_mps2;                    /* vehicle-frame lateral acceleration, last step */
 } PlantState;
+
+/* Magic Formula coefficients of one direction (Pacejka 2012, eq. 4.49). */
+typedef struct {
+    double B, C, E;
+} TyreShape;
 
 /* Constants derived from the parameters once, at initialisation. */
 typedef struct {
@@ -46,13 +59,71 @@ typedef struct {
     double axle_inertia;    /* kg m^2, two wheels */
     double brake_share[PLANT_AXLES];
     double drive_share[PLANT_AXLES];
+    double alpha_steer;     /* 1 - exp(-h / steering_time_constant), 1 without a lag */
+    double cg_to_rear_axle; /* wheelbase - cg_to_front_axle */
+    TyreShape longitudinal; /* tyre_B, tyre_C, tyre_E */
+    TyreShape lateral;      /* B from the cornering stiffness, tyre_lateral_C and _D; tyre_lateral_E */
 } PlantDerived;
+
+/* The planar kinematics of one step: cos and sin of the sideslip and road-wheel angles, and
+ * the velocity of each axle's contact point in its wheel's frame, m/s: u along the wheel
+ * (its forward speed), w across it (to the left). */
+typedef struct {
+    double cos_beta, sin_beta, cos_delta, sin_delta;
+    double u[PLANT_AXLES];
+    double w[PLANT_AXLES];
+} PlanarKinematics;
+
+/* Tyre forces of each axle in its wheel's frame, N, and the lateral slope dFy/dalpha
+ * (N/rad, never negative) for the linearly implicit lateral step. */
+typedef struct {
+    double fx[PLANT_AXLES];
+    double fy[PLANT_AXLES];
+    double fy_slope[PLANT_AXLES];
+} AxleForces;
+
+/* The tyre forces as the body feels them: along and across the velocity of the centre of
+ * gravity (N) and the yaw moment about it (N m). */
+typedef struct {
+    double along;
+    double across;
+    double yaw_moment;
+} BodyForces;
 
 typedef struct {
     PlantVariables var;
     PlantState st;
     PlantDerived k;
 } PlantModel;
+
+static inline double plant_clamp(double x, double lo, double hi) {
+    return x < lo ? lo : (x > hi ? hi : x);
+}
+
+/* First-order lag factor 1 - exp(-h/tau) (exact discretisation); 1 for tau = 0 (no lag). */
+double plant_lag_factor(double h, double tau);
+
+/* Magic Formula force for slip x at peak force peak_n, and its slope dF/dx. */
+double plant_magic_formula(const TyreShape *t, double x, double peak_n, double *slope);
+
+/* planar.c: the road wheel at its initial command, sideslip and yaw rate on its kinematic circle. */
+void plant_planar_initialize(PlantModel *m);
+/* planar.c: the steering actuator over h with lag factor a_steer. */
+void plant_steering_step(PlantModel *m, double h, double a_steer);
+/* planar.c: the kinematics of the current v, beta, yaw rate and delta. */
+void plant_planar_kinematics(const PlantModel *m, PlanarKinematics *kin);
+/* planar.c: the pure-slip lateral tyre forces and their slopes (the wheel step then limits
+ * them with the longitudinal forces to the friction ellipse). */
+void plant_lateral_forces(const PlantModel *m, const double fz_n[PLANT_AXLES], const PlanarKinematics *kin,
+                          AxleForces *f);
+/* planar.c: the factor (<= 1) that puts an axle's pure-slip forces on its friction ellipse. */
+double plant_friction_ellipse(const PlantModel *m, double fz_n, double fx_n, double fy_n);
+/* planar.c: the axle forces resolved along and across the velocity, and the yaw moment. */
+BodyForces plant_body_forces(const PlantModel *m, const PlanarKinematics *kin, const AxleForces *f);
+/* planar.c: sideslip, yaw rate, heading, position and lateral acceleration over h, given the
+ * speed before (v) and after (v_new) the longitudinal update. */
+void plant_planar_step(PlantModel *m, double h, const PlanarKinematics *kin, const BodyForces *b,
+                       const AxleForces *f, double v_new);
 
 /* Check relations between parameters that single ranges cannot express.
  * Returns NULL if fine, else writes a message naming the parameters into buf. */

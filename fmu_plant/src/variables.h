@@ -44,7 +44,7 @@ typedef struct {
 } PlantVarInfo;
 
 /* Value references must stay below this (a dense vr -> entry index). */
-#define PLANT_VR_CAP 64
+#define PLANT_VR_CAP 128
 
 extern const PlantVarInfo PLANT_VARS[];
 extern const size_t PLANT_VAR_COUNT;

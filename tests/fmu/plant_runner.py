@@ -10,7 +10,7 @@ from __future__ import annotations
 import ctypes
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterable, Sequence
 
 import numpy as np
 from fmpy import extract, read_model_description
@@ -102,23 +102,40 @@ def initialise(handle: PlantHandle, params: dict[str, float] | None = None) -> N
     handle.slave.exitInitializationMode()
 
 
-def run_plant(fmu: Path, fmi_version: int, stop_s: float, comm_step_s: float,
-              schedule: Schedule | None = None, params: dict[str, float] | None = None,
-              ) -> dict[str, np.ndarray]:
-    """Simulate to ``stop_s``; returns arrays keyed "t" and each output (row 0 is t = 0)."""
+def _record(fmu: Path, fmi_version: int, steps: Iterable[tuple[float, float]], schedule: Schedule | None,
+            params: dict[str, float] | None, outputs: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """Initialise, then for each (t, h): set the schedule's inputs at t, doStep(t, h), read ``outputs``."""
     handle = open_plant(fmu, fmi_version)
     try:
         initialise(handle, params)
-        n = int(round(stop_s / comm_step_s))
-        rows = [[0.0, *handle.get(*OUTPUTS)]]
-        for k in range(n):
-            t = k * comm_step_s
+        rows = [[0.0, *handle.get(*outputs)]]
+        for t, h in steps:
             if schedule is not None:
                 handle.set(**schedule(t))
-            handle.slave.doStep(t, comm_step_s)
-            rows.append([(k + 1) * comm_step_s, *handle.get(*OUTPUTS)])
+            handle.slave.doStep(t, h)
+            rows.append([t + h, *handle.get(*outputs)])
         handle.slave.terminate()
     finally:
         handle.slave.freeInstance()
     data = np.array(rows)
-    return {"t": data[:, 0], **{name: data[:, i + 1] for i, name in enumerate(OUTPUTS)}}
+    return {"t": data[:, 0], **{name: data[:, i + 1] for i, name in enumerate(outputs)}}
+
+
+def run_plant_at(fmu: Path, fmi_version: int, points_us: Sequence[int], schedule: Schedule | None = None,
+                 params: dict[str, float] | None = None, outputs: tuple[str, ...] = OUTPUTS,
+                 ) -> dict[str, np.ndarray]:
+    """Step through the communication points ``points_us[k] * 1e-6`` s (integers from 0, any
+    spacing); returns arrays keyed "t" and each of ``outputs``."""
+    steps = ((a * 1e-6, b * 1e-6 - a * 1e-6) for a, b in zip(points_us[:-1], points_us[1:]))
+    return _record(fmu, fmi_version, steps, schedule, params, outputs)
+
+
+def run_plant(fmu: Path, fmi_version: int, stop_s: float, comm_step_s: float,
+              schedule: Schedule | None = None, params: dict[str, float] | None = None,
+              outputs: tuple[str, ...] = OUTPUTS) -> dict[str, np.ndarray]:
+    """Simulate to ``stop_s``; returns arrays keyed "t" and each output (row 0 is t = 0)."""
+    n = int(round(stop_s / comm_step_s))
+    steps = ((k * comm_step_s, comm_step_s) for k in range(n))
+    run = _record(fmu, fmi_version, steps, schedule, params, outputs)
+    run["t"] = np.arange(n + 1) * comm_step_s
+    return run

@@ -19,7 +19,9 @@ def closed(handle):
 @pytest.mark.parametrize("version", VERSIONS)
 @pytest.mark.parametrize("name, value", [("mass", -1500.0), ("mass", math.nan), ("wheel_radius", math.nan),
                                          ("brake_time_constant", -0.1), ("tyre_B", math.inf),
-                                         ("brake_dead_time", 0.9)])
+                                         ("brake_dead_time", 0.9), ("steering_ratio", 0.0),
+                                         ("steering_time_constant", -0.1), ("yaw_inertia", math.nan),
+                                         ("steering_angle_max", 2.0)])
 def test_invalid_parameter_is_refused_at_initialisation(fmus, version, name, value):
     h = open_plant(fmus[version], version)
     try:
@@ -72,6 +74,22 @@ def test_nan_input_is_an_error_and_never_reaches_the_outputs(fmus, version):
         values = h.get(*OUTPUTS)
         assert all(math.isfinite(v) for v in values)
         assert h.get("drive_force")[0] > 0.0  # the last valid throttle (0.5) still applies
+    finally:
+        closed(h)
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_steering_inputs_are_clamped_and_nan_is_refused(fmus, version):
+    h = open_plant(fmus[version], version)
+    try:
+        initialise(h, {"v0": 10.0, "steering_time_constant": 0.0})
+        h.set(steering_wheel_angle=25.0, steer_request=-3.0)
+        assert "'steering_wheel_angle' = 25 is outside [-20, 20] rad: clamped to 20" in h.log_text()
+        assert "'steer_request' = -3 is outside [-1.1, 1.1] rad: clamped to -1.1" in h.log_text()
+        with pytest.raises(FMICallException):
+            h.set(steer_request=math.nan)
+        h.slave.doStep(0.0, 0.01)
+        assert h.get("delta")[0] == pytest.approx(0.4 * 0.01)  # towards 20 / 16 - 1.1, at the rate limit
     finally:
         closed(h)
 

@@ -15,6 +15,24 @@ CONTRACT_NAMES = {"throttle", "brake", "road_friction", "grade", "x", "v", "a", 
                   "wheel_speed_fr", "wheel_speed_rl", "wheel_speed_rr", "brake_pressure",
                   "drive_force", "mass", "wheel_radius", "v0", "x0", "abs_enabled",
                   "brake_dead_time", "brake_time_constant", "throttle_time_constant"}
+#: value references importers rely on: those of the longitudinal plant (d2cf42d) never change,
+#: the planar ones (issue 21) are appended
+PINNED_VRS = {
+    "time": 0, "throttle": 1, "brake": 2, "road_friction": 3, "grade": 4, "x": 10, "v": 11, "a": 12,
+    "wheel_speed_fl": 13, "wheel_speed_fr": 14, "wheel_speed_rl": 15, "wheel_speed_rr": 16,
+    "brake_pressure": 17, "drive_force": 18, "mass": 30, "wheel_radius": 31, "v0": 32, "x0": 33,
+    "abs_enabled": 34, "brake_dead_time": 35, "brake_time_constant": 36, "throttle_time_constant": 37,
+    "drag_area": 38, "air_density": 39, "rolling_resistance": 40, "max_power": 41, "max_drive_force": 42,
+    "drive_front_share": 43, "max_brake_force": 44, "brake_front_share": 45, "cg_to_front_axle": 46,
+    "wheelbase": 47, "cg_height": 48, "wheel_inertia": 49, "tyre_B": 50, "tyre_C": 51, "tyre_D": 52,
+    "tyre_E": 53, "abs_slip_release": 54, "abs_slip_reapply": 55, "brake_release_dead_time_fraction": 56,
+    "brake_release_time_constant_fraction": 57,
+    # planar (issue 21)
+    "steering_wheel_angle": 5, "steer_request": 6, "y": 19, "yaw": 20, "yaw_rate": 21, "ay": 22, "vx": 23,
+    "vy": 24, "delta": 25, "yaw_inertia": 58, "tyre_cornering_stiffness": 59, "tyre_lateral_C": 60,
+    "tyre_lateral_E": 61, "steering_ratio": 62, "steering_time_constant": 63, "steering_angle_max": 64,
+    "steering_rate_max": 65, "y0": 66, "yaw0": 67, "tyre_lateral_D": 68,
+}
 
 
 @pytest.mark.parametrize("version", [2, 3])
@@ -35,6 +53,10 @@ def test_description_matches_the_c_table(fmus, version):
     for var in md.modelVariables:
         if var.type in ("Real", "Float64"):
             assert var.unit in UNIT_BASES, f"{var.name} declares no known unit: {var.unit!r}"
+
+
+def test_value_references_are_pinned():
+    assert {v.name: v.vr for v in VARIABLES} == PINNED_VRS
 
 
 def test_table_parses_every_entry_line():
