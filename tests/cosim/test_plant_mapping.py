@@ -25,7 +25,7 @@ def test_missing_input_lists_fmu_inputs(plant_fmu3):
 
 def test_wrong_causality_lists_outputs(plant_fmu3):
     cfg = _with(PlantConfig(), outputs=(SignalMap("position", ("mass",)), SignalMap("speed", ("v",))))
-    with pytest.raises(MappingError, match=r"'mass' is causality 'parameter'.*outputs are: a, brake_pressure"):
+    with pytest.raises(MappingError, match=r"'mass' is causality 'parameter'.*outputs are: a, ay, brake_pressure"):
         FmuPlant(cfg, plant_fmu3)
 
 
