@@ -16,15 +16,24 @@ Rules (issue 4):
   It is re-evaluated every cycle with no hysteresis: that re-evaluation is
   exactly the paper's selective determinism (and its dance).
 
+The mode's commands (:func:`mode_commands`): CONTINGENCY and a held
+contingency brake at ``contingency_decel_mps2`` with throttle 0 %;
+TIGHTENING passes the strategy's bound; STANDBY passes the driver (100 %,
+no request); FAULT withholds throttle and starts no braking, except while
+recovering with valid data, when the planner may still brake.
+
 Timers count cycles; no clock is read.
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from .params import CoreParams
-from .types import Mode
+from .types import CoreState, Mode
+
+if TYPE_CHECKING:
+    from .plan import Plan
 
 
 class ModeDecision(NamedTuple):
@@ -62,3 +71,26 @@ def next_mode(
     if count < params.fault_recovery_cycles:
         return ModeDecision(_FAULT, count, False, True)
     return ModeDecision(planned, count, False, recovering=False)
+
+
+def contingency_active(state: CoreState, params: CoreParams) -> bool:
+    """A contingency was active last cycle: held, in CONTINGENCY, or FAULT braking at the contingency's
+    deceleration (a recovering FAULT that braked for a path that was not disjoint)."""
+    return state.held_contingency or state.mode is _CONTINGENCY or (
+        state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
+
+
+def mode_commands(decision: ModeDecision, plan: Plan, params: CoreParams) -> tuple[float, float]:
+    """(throttle limit %, deceleration request m/s^2) of the decided mode."""
+    mode = decision.mode
+    if mode is _CONTINGENCY:
+        return 0.0, params.contingency_decel_mps2
+    if mode is _TIGHTENING:
+        return plan.throttle_limit_pct, plan.decel_request_mps2
+    if mode is _STANDBY:
+        return 100.0, 0.0
+    if decision.held_contingency:
+        return 0.0, params.contingency_decel_mps2
+    if decision.recovering:  # valid data: braking may be requested, throttle stays withheld
+        return 0.0, params.contingency_decel_mps2 if not plan.disjoint else plan.decel_request_mps2
+    return 0.0, 0.0

@@ -31,12 +31,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 from .params import CoreParams
-from .relevance import in_path
-from .types import CoreInputs, CoreState, FaultFlag
-
-#: tolerance on time comparisons, as in :mod:`ecu.core.validity`
-_EPS_S = 1e-6
-_RATE_OR_SEQ = (1 << FaultFlag.RATE) | (1 << FaultFlag.SEQUENCE)
+from .types import RECEIVER_FLAGS, CoreInputs, CoreState, FaultFlag
+from .validity import AGE_TOLERANCE_S
 
 
 class InputHealth(NamedTuple):
@@ -61,16 +57,16 @@ def pedals_implausible(accel_pedal: float, brake_pedal: float, params: CoreParam
     return accel_pedal > limit and brake_pedal > limit
 
 
-def speed_radar_implausible(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> bool:
-    """A valid object in our path closes faster than our speed estimate plus the tolerance
-    (out-of-path objects, e.g. oncoming traffic in the next lane, are not compared)."""
-    return (inputs.object_valid and in_path(inputs.object_lateral_m, params)
-            and -inputs.object_range_rate_mps > speed_mps + params.radar_speed_tolerance_mps)
+def speed_radar_implausible(speed_mps: float, inputs: CoreInputs, relevant: bool, params: CoreParams) -> bool:
+    """A ``relevant`` object (valid and in our path, :mod:`ecu.core.relevance`) closes faster than our
+    speed estimate plus the tolerance (out-of-path objects, e.g. oncoming traffic in the next lane,
+    are not compared)."""
+    return relevant and -inputs.object_range_rate_mps > speed_mps + params.radar_speed_tolerance_mps
 
 
 def clock_implausible(inputs: CoreInputs) -> bool:
     """An input is stamped later than this cycle (the clock went backwards)."""
-    t = inputs.t_s + _EPS_S
+    t = inputs.t_s + AGE_TOLERANCE_S
     return inputs.wheel_rx_t_s > t or inputs.driver_rx_t_s > t or inputs.object_rx_t_s > t
 
 
@@ -94,6 +90,6 @@ def input_health(inputs: CoreInputs, braking: bool, params: CoreParams) -> Input
         flags |= 1 << FaultFlag.PEDALS
     if clock_implausible(inputs):
         flags |= 1 << FaultFlag.CLOCK
-    wheels_ok = not (slip or inputs.wheel_rx_flags & _RATE_OR_SEQ)
-    driver_ok = not (pedals or inputs.driver_rx_flags & _RATE_OR_SEQ)
+    wheels_ok = not (slip or inputs.wheel_rx_flags & RECEIVER_FLAGS)
+    driver_ok = not (pedals or inputs.driver_rx_flags & RECEIVER_FLAGS)
     return InputHealth(flags, wheels_ok, driver_ok)

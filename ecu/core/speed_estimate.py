@@ -20,12 +20,31 @@ locks or spins::
                             v[k-1] + (driver_max_accel + margin) * dt)
 
 and is never negative. The first valid sample initialises the estimate
-directly. Pure function; no state beyond what is passed in.
+directly. While the wheel speeds are not usable the estimate is held, or,
+while a contingency brakes, dead-reckoned down at the strategy's model
+deceleration (:func:`coast_down_speed_mps`). Pure functions; the state is the
+speed fields of :class:`ecu.core.types.CoreState`.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from .params import NON_DRIVEN_WHEELS, CoreParams
+from .types import CoreInputs, CoreState, Mode
+
+#: cycles since braking saturate here
+_CYCLES_MAX = 1_000_000
+
+
+class SpeedUpdate(NamedTuple):
+    """The speed estimate's part of the next :class:`~ecu.core.types.CoreState`."""
+
+    speed_mps: float
+    initialised: bool
+    wheel_mean_mps: float
+    #: cycles since braking was last commanded (driver pedal or our request); saturates
+    cycles_since_brake: int
 
 
 def candidate_speed_mps(wheels_mps: tuple[float, ...], braking: bool, params: CoreParams) -> float:
@@ -61,3 +80,25 @@ def coast_down_speed_mps(previous_mps: float, decel_mps2: float, dt_s: float) ->
     speed and the hold lasts at least as long as the real stop.
     """
     return max(0.0, previous_mps - decel_mps2 * dt_s)
+
+
+def next_speed(state: CoreState, inputs: CoreInputs, wheels_usable: bool, params: CoreParams) -> SpeedUpdate:
+    """The speed estimate after this cycle (``wheels_usable``: the wheel speeds are valid and plausible).
+
+    Braking, for the candidate: commanded within ``brake_memory_s`` (brake pressure outlives the
+    command), or the mean wheel speed falling.
+    """
+    commanded = inputs.brake_pedal > 0.0 or state.prev_decel_request_mps2 > 0.0
+    since_brake = 0 if commanded else min(state.cycles_since_brake + 1, _CYCLES_MAX)
+    if not wheels_usable:
+        speed = state.speed_mps
+        if state.held_contingency or state.mode == Mode.CONTINGENCY:
+            decel = params.strategy_rules.model_decel_mps2(state.decel, params)
+            speed = coast_down_speed_mps(speed, decel, params.cycle_s)
+        return SpeedUpdate(speed, state.speed_initialised, state.prev_wheel_mean_mps, since_brake)
+    wheels = inputs.wheel_speeds_mps
+    mean = sum(wheels) / 4.0
+    braking = (since_brake * params.cycle_s < params.brake_memory_s
+               or (state.speed_initialised and mean < state.prev_wheel_mean_mps))
+    speed = update_speed_mps(state.speed_mps, state.speed_initialised, wheels, braking, params)
+    return SpeedUpdate(speed, True, mean, since_brake)

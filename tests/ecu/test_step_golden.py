@@ -51,8 +51,8 @@ def test_core_reproduces_the_golden_drive(strategy: str, noise: float) -> None:
     differ = np.flatnonzero(digests != expected)
     if differ.size:
         cycle = int(differ[0])
-        decided = dict(zip(DECISIONS, expected_decisions[cycle]))
-        now = dict(zip(DECISIONS, decisions[cycle]))
+        decided = dict(zip(DECISIONS, expected_decisions[cycle].tolist()))
+        now = dict(zip(DECISIONS, decisions[cycle].tolist()))
         pytest.fail(f"{differ.size} cycles differ, the first {cycle}: decisions then {decided}, now {now}; "
                     f"(params, inputs) {_inputs_at(strategy, noise, cycle)}")
 
