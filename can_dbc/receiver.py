@@ -33,7 +33,7 @@ Receiver checks in the manner of AUTOSAR's E2E state machine (issue 15):
 from __future__ import annotations
 
 from collections import Counter
-from typing import Iterable, Mapping, NamedTuple
+from typing import Iterable, Mapping, NamedTuple, NoReturn
 
 import can
 
@@ -169,22 +169,32 @@ class Receiver:
         """
         fid = msg.arbitration_id
         plain = not (msg.is_extended_id or msg.is_error_frame or msg.is_remote_frame)
-        if plain and (rx := self._by_id.get(fid)) is not None:
-            return self._hold(rx, msg) if rx.protected else self._accept(rx, msg, t_s)
+        rx = self._by_id.get(fid) if plain else None
+        if rx is not None:
+            if not rx.protected:
+                return self._accept(rx, msg, t_s)
+            displaced, rx.held = rx.held, msg  # held for its authenticator
+            if displaced is None:
+                return None
+            self._reject(rx, AuthError(f"{rx.name}: frame without an authenticator (displaced by the next one)"))
         if plain and (rx := self._by_auth_id.get(fid)) is not None:
-            return self._accept(rx, self._authenticate(rx, msg), t_s)
+            return self._accept(rx, self._authenticated(rx, msg), t_s)
         self.stats["UnknownFrame"] += 1
         raise UnknownFrame(f"expected an ID of the contract, got 0x{fid:X}"
                            + (" (extended)" if msg.is_extended_id else ""))
+
+    def _reject(self, rx: _Rx, exc: FrameError) -> NoReturn:
+        """Count and score a rejected frame of ``rx``'s message, and raise ``exc``."""
+        self.stats[type(exc).__name__] += 1
+        rx.bad()
+        raise exc
 
     def _accept(self, rx: _Rx, msg: can.Message, t_s: float | None) -> Frame:
         """:meth:`_check_known` with its outcome counted and scored (a :class:`FrameError` re-raised)."""
         try:
             frame = self._check_known(rx, msg, t_s)
         except FrameError as exc:
-            self.stats[type(exc).__name__] += 1
-            rx.bad()
-            raise
+            self._reject(rx, exc)
         if frame.fresh:  # a good frame, even while resynchronising
             if rx.score:
                 rx.score -= 1
@@ -194,26 +204,15 @@ class Receiver:
             self.stats["repeated"] += 1
         return frame
 
-    def _hold(self, rx: _Rx, msg: can.Message) -> None:
-        """Hold a protected frame for its authenticator; one it displaces was never authenticated."""
-        displaced, rx.held = rx.held, msg
-        if displaced is not None:
-            self.stats["AuthError"] += 1
-            rx.bad()
-            raise AuthError(f"{rx.name}: frame without an authenticator (displaced by the next one)")
-        return None
-
-    def _authenticate(self, rx: _Rx, auth: can.Message) -> can.Message:
-        """Verify ``auth`` against the held frame; returns that frame, to be checked."""
+    def _authenticated(self, rx: _Rx, auth: can.Message) -> can.Message:
+        """The held frame that ``auth`` authenticates (its MAC and freshness verified), to be checked."""
         held, rx.held = rx.held, None
         try:
             if held is None:
                 raise AuthError(f"{rx.name}: authenticator without a frame to authenticate")
             self._secoc.verify(rx.layout.frame_id, held.data, auth.data)
         except AuthError as exc:
-            self.stats[type(exc).__name__] += 1
-            rx.bad()
-            raise
+            self._reject(rx, exc)
         self.stats["authenticated"] += 1
         return held
 
@@ -256,7 +255,7 @@ class Receiver:
             raise
         except Exception as exc:  # noqa: BLE001 - any decode failure is a frame error
             raise DecodeError(f"{name}: cannot decode payload {bytes(data).hex()}: {exc}") from exc
-        return Frame(name=name, signals=signals, counter=counter, fresh=delta != 0, synced=synced)
+        return Frame._make((name, signals, counter, delta != 0, synced))  # length-checked
 
     def receive(self, msg: can.Message, t_s: float | None = None) -> Frame | None:
         """Like :meth:`check` but never raises: rejected frames are counted, ``None`` returned.

@@ -201,9 +201,9 @@ class ClosedLoop:
         # appended in two plain loops, not a nested comprehension + extend (1.89 instead of 2.08 µs, 7 frames)
         append = self.record.frames.append
         for msg in out.frames:
-            append(LoggedFrame(t_s, msg.arbitration_id, bytes(msg.data)))
+            append(LoggedFrame._make((t_s, msg.arbitration_id, bytes(msg.data))))
         for msg in received:
-            append(LoggedFrame(t_s, msg.arbitration_id, bytes(msg.data)))
+            append(LoggedFrame._make((t_s, msg.arbitration_id, bytes(msg.data))))
         sample, pedals, gap_m = out.sample, out.pedals, out.gap_m
         speed_mps = sample.speed_mps
         self.record.rows.append((t_s, sample.position_m, speed_mps, sample.accel_mps2, applied.throttle,

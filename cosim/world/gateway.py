@@ -212,7 +212,7 @@ class Gateway:
             if sig["OverrideActive"]:
                 throttle_pct = min(throttle_pct, sig["ThrottleLimit"])
             brake = max(brake, sig["BrakeDecelRequest"] / self._cfg.brake_full_decel_mps2)
-        return Actuation(throttle=min(1.0, max(0.0, throttle_pct / 100.0)), brake=min(1.0, max(0.0, brake)))
+        return Actuation._make((min(1.0, max(0.0, throttle_pct / 100.0)), min(1.0, max(0.0, brake))))
 
     @property
     def stats(self) -> dict[str, int]:

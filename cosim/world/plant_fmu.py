@@ -364,8 +364,8 @@ class FmuPlant:
         raw = self._out_val[:]
         (ip, sp, op), (iv, sv, ov), accel, ((j0, s0, o0), (j1, s1, o1), (j2, s2, o2), (j3, s3, o3)) = self._read_conv
         a = 0.0 if accel is None else raw[accel[0]] * accel[1] + accel[2]
-        return PlantSample(position_m=raw[ip] * sp + op, speed_mps=raw[iv] * sv + ov, accel_mps2=a,
-                           wheel_speeds_mps=(raw[j0] * s0 + o0, raw[j1] * s1 + o1, raw[j2] * s2 + o2, raw[j3] * s3 + o3))
+        return PlantSample._make((raw[ip] * sp + op, raw[iv] * sv + ov, a,
+                                  (raw[j0] * s0 + o0, raw[j1] * s1 + o1, raw[j2] * s2 + o2, raw[j3] * s3 + o3)))
 
     def close(self) -> None:
         """Terminate and free the FMU; safe to call twice."""

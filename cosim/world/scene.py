@@ -138,7 +138,7 @@ class Scene:
             # visible: ahead, within range, its nearest point inside the field of view
             if 0.0 < gap <= self._radar.max_range_m and max(0.0, abs(y) - half_width) <= gap * self._tan_half_fov:
                 in_lane = abs(y) - half_width < LANE_HALF_WIDTH_M
-                seen.append((not in_lane, gap, Truth(gap_m=gap, range_rate_mps=v - speed_mps, lateral_m=y)))
+                seen.append((not in_lane, gap, Truth._make((gap, v - speed_mps, y))))
         if len(seen) == 1:  # the common case: min() would return it
             return seen[0][2]
         return min(seen, key=_LANE_THEN_GAP)[2] if seen else None

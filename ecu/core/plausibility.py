@@ -28,19 +28,9 @@ functions of this cycle's inputs, the speed estimate and the parameters.
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 from .params import CoreParams
 from .types import RECEIVER_FLAGS, CoreInputs, CoreState, FaultFlag
 from .validity import AGE_TOLERANCE_S
-
-
-class InputHealth(NamedTuple):
-    """Fault flags of this cycle from these checks and the receiver, and which inputs may be used."""
-
-    flags: int
-    wheels_ok: bool
-    driver_ok: bool
 
 
 def wheel_slip_implausible(wheels_mps: tuple[float, ...], braking: bool, params: CoreParams) -> bool:
@@ -79,10 +69,11 @@ def braking_now(state: CoreState, inputs: CoreInputs, params: CoreParams) -> boo
     return state.speed_initialised and sum(inputs.wheel_speeds_mps) / 4.0 < state.prev_wheel_mean_mps
 
 
-def input_health(inputs: CoreInputs, braking: bool, params: CoreParams) -> InputHealth:
-    """Receiver flags, node flags and the plausibility checks that need no speed estimate."""
+def input_health(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[int, bool, bool]:
+    """(fault flags of the receiver, the node and the checks that need no speed estimate; whether the
+    wheel speeds and the driver input may be used)."""
     flags = inputs.wheel_rx_flags | inputs.driver_rx_flags | inputs.object_rx_flags | inputs.node_flags
-    slip = wheel_slip_implausible(inputs.wheel_speeds_mps, braking, params)
+    slip = wheel_slip_implausible(inputs.wheel_speeds_mps, braking_now(state, inputs, params), params)
     pedals = pedals_implausible(inputs.accel_pedal, inputs.brake_pedal, params)
     if slip:
         flags |= 1 << FaultFlag.WHEEL_SLIP
@@ -90,6 +81,5 @@ def input_health(inputs: CoreInputs, braking: bool, params: CoreParams) -> Input
         flags |= 1 << FaultFlag.PEDALS
     if clock_implausible(inputs):
         flags |= 1 << FaultFlag.CLOCK
-    wheels_ok = not (slip or inputs.wheel_rx_flags & RECEIVER_FLAGS)
-    driver_ok = not (pedals or inputs.driver_rx_flags & RECEIVER_FLAGS)
-    return InputHealth(flags, wheels_ok, driver_ok)
+    return (flags, not (slip or inputs.wheel_rx_flags & RECEIVER_FLAGS),
+            not (pedals or inputs.driver_rx_flags & RECEIVER_FLAGS))

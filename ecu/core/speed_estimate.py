@@ -28,23 +28,11 @@ speed fields of :class:`ecu.core.types.CoreState`.
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 from .params import NON_DRIVEN_WHEELS, CoreParams
 from .types import CoreInputs, CoreState, Mode
 
 #: cycles since braking saturate here
 _CYCLES_MAX = 1_000_000
-
-
-class SpeedUpdate(NamedTuple):
-    """The speed estimate's part of the next :class:`~ecu.core.types.CoreState`."""
-
-    speed_mps: float
-    initialised: bool
-    wheel_mean_mps: float
-    #: cycles since braking was last commanded (driver pedal or our request); saturates
-    cycles_since_brake: int
 
 
 def candidate_speed_mps(wheels_mps: tuple[float, ...], braking: bool, params: CoreParams) -> float:
@@ -82,8 +70,10 @@ def coast_down_speed_mps(previous_mps: float, decel_mps2: float, dt_s: float) ->
     return max(0.0, previous_mps - decel_mps2 * dt_s)
 
 
-def next_speed(state: CoreState, inputs: CoreInputs, wheels_usable: bool, params: CoreParams) -> SpeedUpdate:
-    """The speed estimate after this cycle (``wheels_usable``: the wheel speeds are valid and plausible).
+def next_speed(state: CoreState, inputs: CoreInputs, wheels_usable: bool,
+               params: CoreParams) -> tuple[float, bool, float, int]:
+    """The speed fields of the next state: (speed estimate m/s, initialised, mean wheel speed m/s, cycles
+    since braking was commanded, saturating). ``wheels_usable``: the wheel speeds are valid and plausible.
 
     Braking, for the candidate: commanded within ``brake_memory_s`` (brake pressure outlives the
     command), or the mean wheel speed falling.
@@ -95,10 +85,10 @@ def next_speed(state: CoreState, inputs: CoreInputs, wheels_usable: bool, params
         if state.held_contingency or state.mode == Mode.CONTINGENCY:
             decel = params.strategy_rules.model_decel_mps2(state.decel, params)
             speed = coast_down_speed_mps(speed, decel, params.cycle_s)
-        return SpeedUpdate(speed, state.speed_initialised, state.prev_wheel_mean_mps, since_brake)
+        return speed, state.speed_initialised, state.prev_wheel_mean_mps, since_brake
     wheels = inputs.wheel_speeds_mps
     mean = sum(wheels) / 4.0
     braking = (since_brake * params.cycle_s < params.brake_memory_s
                or (state.speed_initialised and mean < state.prev_wheel_mean_mps))
     speed = update_speed_mps(state.speed_mps, state.speed_initialised, wheels, braking, params)
-    return SpeedUpdate(speed, True, mean, since_brake)
+    return speed, True, mean, since_brake
