@@ -12,9 +12,10 @@ deceleration, our extension), ``plan`` (``proximity``, ``intent``,
 from .params import STRATEGIES, CoreParams
 from .plan import Plan, plan_cycle
 from .step import step
+from .strategies import REGISTRY  # imported here so that a registry that disagrees with the DBC stops the import
 from .types import CoreInputs, CoreOutputs, CoreState, FaultFlag, Mode
 
 __all__ = [
-    "STRATEGIES", "CoreInputs", "CoreOutputs", "CoreParams", "CoreState", "FaultFlag",
+    "REGISTRY", "STRATEGIES", "CoreInputs", "CoreOutputs", "CoreParams", "CoreState", "FaultFlag",
     "Mode", "Plan", "plan_cycle", "step",
 ]

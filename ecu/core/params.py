@@ -1,7 +1,7 @@
 """Parameters of the pure ECU core: one frozen dataclass, every number a field.
 
 Units are SI and named in the field. ``strategy`` names one of the registry
-:data:`ecu.core.strategies.STRATEGIES` (the DBC's ``EcuStatus.Strategy``
+:data:`ecu.core.strategies.REGISTRY` (the DBC's ``EcuStatus.Strategy``
 values: the paper's ``none``, ``conservative`` and ``tightening``, Johnson
 2019 section III, and our ``adaptive``). The derived fields are computed once
 at construction so the cycle does no table lookups: ``strategy_rules`` (the strategy's
@@ -139,11 +139,11 @@ class CoreParams:
 
     def __post_init__(self) -> None:
         # imported here: the strategies' modules import this one's module (decel_estimate: NON_DRIVEN_WHEELS)
-        from .strategies import STRATEGIES as RULES
+        from .strategies import REGISTRY
 
-        rules = RULES.get(self.strategy)
+        rules = REGISTRY.get(self.strategy)
         if rules is None:
-            raise ValueError(f"strategy: expected one of {list(RULES)}, got {self.strategy!r}")
+            raise ValueError(f"strategy: expected one of {list(REGISTRY)}, got {self.strategy!r}")
         fraction = rules.decel_fraction(self)
         object.__setattr__(self, "strategy_rules", rules)
         object.__setattr__(self, "model_decel_fraction", fraction)

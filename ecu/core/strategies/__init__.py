@@ -48,4 +48,4 @@ def _registry() -> dict[str, Strategy]:
 
 
 #: strategy name -> its rules, in the order of the DBC's ``EcuStatus.Strategy`` values
-STRATEGIES: Mapping[str, Strategy] = _registry()
+REGISTRY: Mapping[str, Strategy] = _registry()
