@@ -216,20 +216,8 @@ class Receiver:
         self.stats["authenticated"] += 1
         return held
 
-    @staticmethod
-    def _sequence(rx: _Rx, delta: int) -> bool:
-        """Update the sync state for a counter step ``delta``; True when the frame may be used."""
-        left = rx.sync_left
-        if delta == 0 or delta > MAX_COUNTER_JUMP:
-            rx.sync_left = SYNC_FRAMES
-            return False
-        if left:
-            left = left - 1 if delta == 1 else SYNC_FRAMES
-            rx.sync_left = left
-            return left == 0
-        return True
-
     def _check_known(self, rx: _Rx, msg: can.Message, t_s: float | None = None) -> Frame:
+        """Checks (2) to (7) of the module doc on a frame of a known message, and the sync state."""
         data, layout, name = msg.data, rx.layout, rx.name
         if msg.dlc != FRAME_LENGTH or len(data) != FRAME_LENGTH or msg.is_fd:
             raise LengthError(f"{name}: expected DLC {FRAME_LENGTH}, got {msg.dlc} ({len(data)} data bytes)")
@@ -243,12 +231,15 @@ class Receiver:
             rx.rate.arrive(t_s)
         previous, rx.counter = rx.counter, counter  # follow the new counter, but only after SYNC_FRAMES good ones
         delta = 1 if previous is None else (counter - previous) % COUNTER_MODULUS
-        synced = self._sequence(rx, delta)
-        if delta > MAX_COUNTER_JUMP:
-            raise CounterError(
-                f"{name}: expected counter {(previous + 1) % COUNTER_MODULUS}"
-                f" (jump <= {MAX_COUNTER_JUMP}), got {counter}"
-            )
+        synced = True
+        if delta == 0 or delta > MAX_COUNTER_JUMP:  # a repeat or a jump: resynchronise
+            rx.sync_left, synced = SYNC_FRAMES, False
+            if delta:
+                raise CounterError(f"{name}: expected counter {(previous + 1) % COUNTER_MODULUS}"
+                                   f" (jump <= {MAX_COUNTER_JUMP}), got {counter}")
+        elif rx.sync_left:  # resynchronising: SYNC_FRAMES consecutive frames each stepping by exactly 1
+            rx.sync_left = rx.sync_left - 1 if delta == 1 else SYNC_FRAMES
+            synced = rx.sync_left == 0
         try:
             signals = _decode(layout, int.from_bytes(data, "little"))
         except FrameError:
