@@ -27,7 +27,6 @@ from .proximity import proximity
 from .relative_stop import is_moving, moving_proximity, relative_approach_m, relative_disjoint
 from .relevance import in_path
 from .stopping_path import is_disjoint, stopping_distance_m
-from .strategy import Tightening
 from .types import CoreInputs
 
 
@@ -57,32 +56,27 @@ def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams,
 
 
 def plan(speed_mps: float, inputs: CoreInputs, relevant: bool, decel_mps2: float, params: CoreParams) -> Plan:
-    """:func:`plan_cycle` for an object already judged ``relevant`` (valid and in our path) and D given."""
-    if relevant and is_moving(speed_mps, inputs.object_range_rate_mps, params):
-        return _plan_moving(speed_mps, inputs, decel_mps2, params)
-    range_m = inputs.object_range_m
-    p = proximity(relevant, range_m, speed_mps, params, decel_mps2)
-    bound, command = _bounded(p, inputs, params)
-    distance = stopping_distance_m(speed_mps, command, params.hold_time_s, decel_mps2)
-    return Plan(p, bound.throttle_limit_pct, bound.decel_request_mps2, bound.restricts, distance,
-                is_disjoint(distance, relevant, range_m, params),
-                speed_mps <= params.contingency_release_speed_mps
-                and is_disjoint(distance * params.contingency_release_ratio, relevant, range_m, params))
+    """:func:`plan_cycle` for an object already judged ``relevant`` (valid and in our path) and D given.
 
-
-def _plan_moving(speed_mps: float, inputs: CoreInputs, decel_mps2: float, params: CoreParams) -> Plan:
-    """:func:`plan` behind a moving object: stop at zero relative speed (:mod:`ecu.core.relative_stop`)."""
+    Behind a moving object the stopping path ends at zero relative speed (:mod:`ecu.core.relative_stop`),
+    otherwise at standstill (:mod:`ecu.core.stopping_path`).
+    """
     rate, range_m = inputs.object_range_rate_mps, inputs.object_range_m
-    p = moving_proximity(range_m, rate, params, decel_mps2)
-    bound, command = _bounded(p, inputs, params)
-    approach = relative_approach_m(rate, command, params, decel_mps2)
-    return Plan(p, bound.throttle_limit_pct, bound.decel_request_mps2, bound.restricts, approach,
-                relative_disjoint(approach, range_m, params),
-                speed_mps <= params.contingency_release_speed_mps
-                and relative_disjoint(approach * params.contingency_release_ratio, range_m, params))
-
-
-def _bounded(p: float, inputs: CoreInputs, params: CoreParams) -> tuple[Tightening, float]:
-    """The strategy's bound at proximity ``p``, and the driver's command under it (m/s^2)."""
+    moving = relevant and is_moving(speed_mps, rate, params)
+    if moving:
+        p = moving_proximity(range_m, rate, params, decel_mps2)
+    else:
+        p = proximity(relevant, range_m, speed_mps, params, decel_mps2)
     bound = params.strategy_rules.tighten(p, params)
-    return bound, min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), bound.accel_upper_mps2)
+    command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), bound.accel_upper_mps2)
+    ratio = params.contingency_release_ratio
+    if moving:
+        distance = relative_approach_m(rate, command, params, decel_mps2)
+        disjoint = relative_disjoint(distance, range_m, params)
+        release = relative_disjoint(distance * ratio, range_m, params)
+    else:
+        distance = stopping_distance_m(speed_mps, command, params.hold_time_s, decel_mps2)
+        disjoint = is_disjoint(distance, relevant, range_m, params)
+        release = is_disjoint(distance * ratio, relevant, range_m, params)
+    return Plan(p, bound.throttle_limit_pct, bound.decel_request_mps2, bound.restricts, distance, disjoint,
+                speed_mps <= params.contingency_release_speed_mps and release)

@@ -35,13 +35,6 @@ from .types import CoreInputs, CoreState, Mode
 _CYCLES_MAX = 1_000_000
 
 
-def candidate_speed_mps(wheels_mps: tuple[float, ...], braking: bool, params: CoreParams) -> float:
-    """The wheel speed the estimate moves toward this cycle (m/s)."""
-    if braking:
-        return max(wheels_mps)
-    return min(wheels_mps[i] for i in NON_DRIVEN_WHEELS[params.driven_axle])
-
-
 def update_speed_mps(
     previous_mps: float,
     initialised: bool,
@@ -49,8 +42,11 @@ def update_speed_mps(
     braking: bool,
     params: CoreParams,
 ) -> float:
-    """Next speed estimate (m/s) from the previous estimate and this cycle's wheel speeds."""
-    candidate = candidate_speed_mps(wheels_mps, braking, params)
+    """Next speed estimate (m/s) from the previous estimate and this cycle's wheel speeds.
+
+    The candidate: braking, the fastest wheel (the least slipping); otherwise the slowest non-driven one.
+    """
+    candidate = max(wheels_mps) if braking else min(map(wheels_mps.__getitem__, NON_DRIVEN_WHEELS[params.driven_axle]))
     if not initialised:
         return max(0.0, candidate)
     dt = params.cycle_s

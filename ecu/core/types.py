@@ -34,8 +34,6 @@ NEVER_S = -math.inf
 Mode = IntEnum("Mode", {name: value for value, name in MODE_NAMES.items()}, module=__name__)
 
 
-
-
 def _flag_name(signal_name: str) -> str:
     """``FaultWheelSpeedTimeout`` -> ``WHEEL_SPEED_TIMEOUT`` (``FaultE2E`` -> ``E2E``)."""
     return re.sub(r"(?<=[a-z])(?=[A-Z])", "_", signal_name.removeprefix("Fault")).upper()

@@ -3,17 +3,19 @@
 A strategy (Johnson 2019, section III; ``adaptive`` is our extension) decides,
 each cycle, what :class:`ecu.core.strategy.Strategy` lists: the model
 deceleration D its stopping paths plan with, and whether and how it tightens
-the driver's acceleration bound. The paper's three: ``none`` and ``conservative`` differ only in D (0.9 and
-0.8 of the peak); ``tightening`` plans with 0.9 and tightens. ``adaptive`` is
-``tightening`` with D from an online estimate (:mod:`ecu.core.decel_estimate`).
+the driver's acceleration bound. The paper's three: ``none`` and
+``conservative`` differ only in D (0.9 and 0.8 of the peak); ``tightening``
+plans with 0.9 and tightens. ``adaptive`` is ``tightening`` with D from an
+online estimate (:mod:`ecu.core.decel_estimate`).
 
-**Adding one** is its module here, named as its ``EcuStatus.Strategy`` ``VAL_``
-entry in lower case, with a module-level ``STRATEGY`` that satisfies
-:class:`~ecu.core.strategy.Strategy`, and that ``VAL_`` line in the DBC: the registry below finds
-the module by a scan of this package, and the command lines, the configuration
-and ``EcuStatus`` take the name from the DBC. The two must agree: a module
-without its ``VAL_`` entry, or an entry without its module, stops the import
-with an error naming both.
+**Adding one** is its module here, named as its ``EcuStatus.Strategy``
+``VAL_`` entry in lower case, with a module-level ``STRATEGY`` that satisfies
+:class:`~ecu.core.strategy.Strategy`, and its value in that ``VAL_`` line of
+the DBC. :data:`REGISTRY` finds the module by a scan of this package (modules
+named ``_*`` are not strategies); the command lines, the configuration and
+``EcuStatus`` take the name from the DBC. The two must agree: a module without
+its ``VAL_`` entry, or an entry without its module, stops the import with an
+error naming it.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from can_dbc import DBC_PATH
 from can_dbc.contract import STRATEGY_CODES
 
 from ..strategy import Strategy
+
 
 def _registry() -> dict[str, Strategy]:
     """Every module of this package (not ``_private``) by name, in the DBC's value order; checked against it."""
