@@ -64,7 +64,7 @@ class InputLatch:
         # the three messages told apart inline, not through a dict of handler methods: one call
         # less per input frame (about two a cycle) and no bound-method look-up: a WheelSpeeds frame
         # 0.23 instead of 0.29-0.34 µs (timeit)
-        name, s = frame[0], frame[1]  # Frame.name, Frame.signals
+        name, s = frame.name, frame.signals
         if name == "WheelSpeeds":
             self.wheel_speeds_mps = (
                 s["WheelSpeedFL"] / KMH_PER_MPS, s["WheelSpeedFR"] / KMH_PER_MPS,
