@@ -60,9 +60,8 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     flags, (speed, initialised, wheel_mean, since_brake), wheels_ok, driver_ok = _checked_speed(
         state, inputs, relevant, params)
     fault = flags & ~REPORT_ONLY_FLAGS
-    rules = params.strategy_rules
-    estimate = rules.next_estimate(state, inputs, speed, wheels_ok, params)
-    cycle_plan = plan(speed, inputs, relevant, rules.model_decel_mps2(estimate, params), params)
+    estimate, decel_mps2 = params.strategy_rules.cycle_decel(state, inputs, speed, wheels_ok, params)
+    cycle_plan = plan(speed, inputs, relevant, decel_mps2, params)
     # standstill only matters while faulted (a held contingency ends there)
     stopped = bool(fault) and release_speed_mps(speed, wheels_ok, inputs, params) <= params.standstill_speed_mps
     mode, valid_cycles, held, throttle, decel = decide(state, cycle_plan, fault, stopped, params)

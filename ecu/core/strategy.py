@@ -4,7 +4,8 @@ A strategy (Johnson 2019, section III; ``adaptive`` is our extension) decides
 
 * the model deceleration D its stopping paths plan with: a fraction of the
   peak deceleration (``decel_fraction``), or an estimate of what the road
-  allows (``model_decel_mps2`` of the estimate it keeps, ``next_estimate``);
+  allows that it keeps and updates (``cycle_decel``; ``model_decel_mps2`` is
+  D for a given estimate);
 * whether and how it tightens the driver's acceleration bound as the stopping
   path nears the contingency boundary (``tighten``; :data:`NO_TIGHTENING`
   leaves the driver's command alone).
@@ -33,14 +34,12 @@ class Tightening(NamedTuple):
     accel_upper_mps2: float
     throttle_limit_pct: float
     decel_request_mps2: float
-
-    @property
-    def restricts(self) -> bool:
-        return self.throttle_limit_pct < FULL_THROTTLE_PCT or self.decel_request_mps2 > 0.0
+    #: the bound takes something from the driver: ``throttle_limit_pct < 100 or decel_request_mps2 > 0``
+    restricts: bool
 
 
 #: no bound: the driver's command passes (min(a_drv, inf) is a_drv for every float, NaN too)
-NO_TIGHTENING = Tightening(0.0, float("inf"), FULL_THROTTLE_PCT, 0.0)
+NO_TIGHTENING = Tightening(0.0, float("inf"), FULL_THROTTLE_PCT, 0.0, False)
 
 
 @runtime_checkable
@@ -50,15 +49,16 @@ class Strategy(Protocol):
     def decel_fraction(self, params: CoreParams) -> float:
         """f in ``D = f * peak_decel_mps2``, the fixed model deceleration (the prior of an estimate)."""
 
-    def next_estimate(self, state: CoreState, inputs: CoreInputs, speed_mps: float, wheels_ok: bool,
-                      params: CoreParams) -> DecelEstimate:
-        """The achievable-deceleration estimate after this cycle; ``state.decel`` for a strategy without one.
+    def cycle_decel(self, state: CoreState, inputs: CoreInputs, speed_mps: float, wheels_ok: bool,
+                    params: CoreParams) -> tuple[DecelEstimate, float]:
+        """(the achievable-deceleration estimate after this cycle, D for this cycle); a strategy without
+        an estimate: ``(state.decel, params.model_decel_mps2)``.
 
         ``speed_mps``: this cycle's speed estimate; ``wheels_ok``: the wheel speeds are valid and plausible.
         """
 
     def model_decel_mps2(self, estimate: DecelEstimate, params: CoreParams) -> float:
-        """D (m/s^2) for a cycle with ``estimate``; ``params.model_decel_mps2`` for a strategy without one."""
+        """D (m/s^2) with ``estimate``; ``params.model_decel_mps2`` for a strategy without one."""
 
     def tighten(self, proximity: float, params: CoreParams) -> Tightening:
         """The bound on the driver's acceleration at ``proximity``; :data:`NO_TIGHTENING` for none."""
@@ -73,9 +73,9 @@ class FixedDeceleration:
     def decel_fraction(self, params: CoreParams) -> float:
         raise NotImplementedError(f"{type(self).__name__}: a strategy names its deceleration fraction")
 
-    def next_estimate(self, state: CoreState, inputs: CoreInputs, speed_mps: float, wheels_ok: bool,
-                      params: CoreParams) -> DecelEstimate:
-        return state.decel
+    def cycle_decel(self, state: CoreState, inputs: CoreInputs, speed_mps: float, wheels_ok: bool,
+                    params: CoreParams) -> tuple[DecelEstimate, float]:
+        return state.decel, params.model_decel_mps2
 
     def model_decel_mps2(self, estimate: DecelEstimate, params: CoreParams) -> float:
         return params.model_decel_mps2

@@ -26,17 +26,17 @@ if TYPE_CHECKING:
 class Adaptive(ConstraintTightening):
     """Constraint tightening with ``D = fraction * a_hat``."""
 
-    def next_estimate(self, state: CoreState, inputs: CoreInputs, speed_mps: float, wheels_ok: bool,
-                      params: CoreParams) -> DecelEstimate:
-        """One update of the estimate from this cycle's evidence; unchanged without valid wheel speeds.
-
-        The braking commanded last cycle is ``max(our request, brake pedal x peak)``.
+    def cycle_decel(self, state: CoreState, inputs: CoreInputs, speed_mps: float, wheels_ok: bool,
+                    params: CoreParams) -> tuple[DecelEstimate, float]:
+        """One update of the estimate from this cycle's evidence (unchanged without valid wheel speeds),
+        and D with it. The braking commanded last cycle is ``max(our request, brake pedal x peak)``.
         """
-        if not (state.speed_initialised and wheels_ok):
-            return state.decel
-        request = max(state.prev_decel_request_mps2, inputs.brake_pedal * params.peak_decel_mps2)
-        return decel_estimate.update(state.decel, state.speed_mps, speed_mps, inputs.wheel_speeds_mps,
-                                     request, params)
+        estimate = state.decel
+        if state.speed_initialised and wheels_ok:
+            request = max(state.prev_decel_request_mps2, inputs.brake_pedal * params.peak_decel_mps2)
+            estimate = decel_estimate.update(estimate, state.speed_mps, speed_mps, inputs.wheel_speeds_mps,
+                                             request, params)
+        return estimate, self.model_decel_mps2(estimate, params)
 
     def model_decel_mps2(self, estimate: DecelEstimate, params: CoreParams) -> float:
         return params.model_decel_fraction * decel_estimate.achievable_decel_mps2(estimate, params)

@@ -50,7 +50,8 @@ def tighten(p: float, params: CoreParams) -> Tightening:
     a_max = params.driver_max_accel_mps2
     a_hi = (1.0 - p) * a_max + p * (-params.contingency_decel_mps2)
     throttle_pct = FULL_THROTTLE_PCT * min(1.0, max(0.0, a_hi / a_max))
-    return Tightening(p, a_hi, throttle_pct, max(0.0, -a_hi))
+    request_mps2 = max(0.0, -a_hi)
+    return Tightening(p, a_hi, throttle_pct, request_mps2, throttle_pct < FULL_THROTTLE_PCT or request_mps2 > 0.0)
 
 
 class ConstraintTightening(FixedDeceleration):
