@@ -14,6 +14,7 @@ from .database import AUTHENTICATORS, DBC_PATH, LAYOUTS, LAYOUTS_BY_ID, cycle_ti
 from .contract import (
     BRAKE_DECEL_MAX_MPS2,
     ECU_CYCLE_S,
+    FAULT_SIGNALS,
     MODE_NAMES,
     STRATEGIES,
     STRATEGY_CODES,
@@ -43,7 +44,7 @@ from .secoc import SecOcSender, SecOcVerifier, generate_key, load_key_file, writ
 __all__ = [
     "AUTHENTICATORS", "AuthError", "FreshnessError", "KeyFileError", "RX_RATE", "RX_SEQUENCE", "SYNC_FRAMES",
     "SecOcSender", "SecOcVerifier", "generate_key", "load_key_file", "write_key_file",
-    "BRAKE_DECEL_MAX_MPS2", "ECU_CYCLE_S", "MODE_NAMES", "STRATEGIES", "STRATEGY_CODES",
+    "BRAKE_DECEL_MAX_MPS2", "ECU_CYCLE_S", "FAULT_SIGNALS", "MODE_NAMES", "STRATEGIES", "STRATEGY_CODES",
     "ConfigError", "enumeration", "signal_dbc_per_si", "signal_range", "timeout_s",
     "COUNTER_MODULUS", "DATABASE", "DBC_PATH", "LAYOUTS", "LAYOUTS_BY_ID",
     "ChecksumError", "CounterError", "CounterSequence", "DecodeError", "EnumError",

@@ -82,7 +82,6 @@ _WHEEL_MAX_KMH = signal_layout("WheelSpeeds", "WheelSpeedFL").maximum
 __all__ = ["PHASES", "ClosedLoop", "ecu_config", "run_scenario"]
 
 Progress = Callable[[float, float], None]
-_new_tuple = tuple.__new__
 
 
 def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
@@ -200,13 +199,12 @@ class ClosedLoop:
         return nxt
 
     def _log_cycle(self, t_s: float, out: _Outgoing, received: list, applied: Actuation) -> None:
-        # LoggedFrame's tuple built directly, without its generated __new__ (0.11 instead of 0.20 µs a frame);
         # appended in two plain loops, not a nested comprehension + extend (1.89 instead of 2.08 µs, 7 frames)
         append = self.record.frames.append
         for msg in out.frames:
-            append(_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data))))
+            append(LoggedFrame._make((t_s, msg.arbitration_id, bytes(msg.data))))
         for msg in received:
-            append(_new_tuple(LoggedFrame, (t_s, msg.arbitration_id, bytes(msg.data))))
+            append(LoggedFrame._make((t_s, msg.arbitration_id, bytes(msg.data))))
         sample, pedals, gap_m = out.sample, out.pedals, out.gap_m
         speed_mps = sample.speed_mps
         self.record.rows.append((t_s, sample.position_m, speed_mps, sample.accel_mps2, applied.throttle,

@@ -67,7 +67,6 @@ _MODE_NAMES = MODE_NAMES  # the DBC's VAL_ of SafetyOverride.Mode
 _STATUS_ID = LAYOUTS["EcuStatus"].frame_id
 #: event kinds that make a run exit non-zero (cosim.cli)
 SECURITY_EVENTS = ("auth_failure", "ecu_security_fault")
-_new_tuple = tuple.__new__
 
 
 class Actuation(NamedTuple):
@@ -213,8 +212,7 @@ class Gateway:
             if sig["OverrideActive"]:
                 throttle_pct = min(throttle_pct, sig["ThrottleLimit"])
             brake = max(brake, sig["BrakeDecelRequest"] / self._cfg.brake_full_decel_mps2)
-        # the tuple made an Actuation without its generated __new__ (0.24 µs a cycle less, timeit)
-        return _new_tuple(Actuation, (min(1.0, max(0.0, throttle_pct / 100.0)), min(1.0, max(0.0, brake))))
+        return Actuation._make((min(1.0, max(0.0, throttle_pct / 100.0)), min(1.0, max(0.0, brake))))
 
     @property
     def stats(self) -> dict[str, int]:

@@ -1,17 +1,21 @@
 """The pure core of the active-safety ECU: ``step(state, inputs, params) -> (state, outputs)``.
 
-No I/O, no clock, no logging. Submodules, one concern each: ``speed_estimate``,
-``stopping_path``, ``strategies`` (driver intent, proximity, tightening),
-``validity``, ``modes``, ``output_gate``, ``decel_estimate`` (the ``adaptive``
-strategy's estimate of the achievable deceleration, our extension); ``step``
-ties them together.
+No I/O, no clock, no logging. Submodules, one concern each, composed by
+``step`` in this order: ``relevance``, ``validity`` and ``plausibility``,
+``speed_estimate``, the strategy (``strategies``, one module each, in a
+registry; ``decel_estimate`` is ``adaptive``'s estimate of the achievable
+deceleration, our extension), ``plan`` (``proximity``, ``intent``,
+``stopping_path``, ``relative_stop``), ``modes`` and ``degraded``, and
+``output_gate``.
 """
 
 from .params import STRATEGIES, CoreParams
-from .step import Plan, plan_cycle, step
+from .plan import Plan, plan_cycle
+from .step import step
+from .strategies import REGISTRY  # imported here so that a registry that disagrees with the DBC stops the import
 from .types import CoreInputs, CoreOutputs, CoreState, FaultFlag, Mode
 
 __all__ = [
-    "STRATEGIES", "CoreInputs", "CoreOutputs", "CoreParams", "CoreState", "FaultFlag",
+    "REGISTRY", "STRATEGIES", "CoreInputs", "CoreOutputs", "CoreParams", "CoreState", "FaultFlag",
     "Mode", "Plan", "plan_cycle", "step",
 ]

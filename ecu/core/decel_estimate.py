@@ -97,7 +97,7 @@ def traction_slip(speed_mps: float, wheels_mps: tuple[float, ...], params: CoreP
     driven = DRIVEN_WHEELS[params.driven_axle]
     if speed_mps <= 0.0 or not driven:
         return 0.0
-    return (min(wheels_mps[i] for i in driven) - speed_mps) / speed_mps
+    return (min(map(wheels_mps.__getitem__, driven)) - speed_mps) / speed_mps
 
 
 def at_limit(estimate: DecelEstimate, request_mps2: float, params: CoreParams) -> bool:

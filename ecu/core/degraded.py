@@ -33,22 +33,20 @@ data, and braking is only ever started from valid radar data.
 
 from __future__ import annotations
 
+from .intent import driver_accel_mps2
 from .params import CoreParams
 from .relevance import in_path
 from .stopping_path import closing_speed_mps, stopping_distance_m
-from .strategies import driver_accel_mps2
-from .types import CoreInputs, FaultFlag
-
-_EPS_S = 1e-6
-_OBJECT_BAD = (1 << FaultFlag.RATE) | (1 << FaultFlag.SEQUENCE)
+from .types import RECEIVER_FLAGS, CoreInputs
+from .validity import AGE_TOLERANCE_S
 
 
 def object_usable(inputs: CoreInputs, params: CoreParams) -> bool:
     """The object track is fresh (age 0 .. timeout), E2E-valid, and in rate and sequence."""
     return (
-        -_EPS_S <= inputs.t_s - inputs.object_rx_t_s <= params.object_timeout_s + _EPS_S
+        -AGE_TOLERANCE_S <= inputs.t_s - inputs.object_rx_t_s <= params.object_timeout_s + AGE_TOLERANCE_S
         and inputs.object_e2e_score < params.e2e_invalid_score
-        and not inputs.object_rx_flags & _OBJECT_BAD
+        and not inputs.object_rx_flags & RECEIVER_FLAGS
     )
 
 

@@ -16,49 +16,53 @@ Rules (issue 4):
   It is re-evaluated every cycle with no hysteresis: that re-evaluation is
   exactly the paper's selective determinism (and its dance).
 
+The mode's commands (:func:`decide` returns them too): CONTINGENCY and a held
+contingency brake at ``contingency_decel_mps2`` with throttle 0 %;
+TIGHTENING passes the strategy's bound; STANDBY passes the driver (100 %,
+no request); FAULT withholds throttle and starts no braking, except while
+recovering with valid data, when the planner may still brake.
+
 Timers count cycles; no clock is read.
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import TYPE_CHECKING
 
 from .params import CoreParams
-from .types import Mode
+from .types import CoreState, Mode
 
-
-class ModeDecision(NamedTuple):
-    mode: Mode
-    valid_cycles: int
-    #: a contingency carried through the fault (only meaningful while faulted).
-    held_contingency: bool
-    #: the inputs are valid but FAULT is still counting recovery cycles.
-    recovering: bool
+if TYPE_CHECKING:
+    from .plan import Plan
 
 
 _STANDBY, _TIGHTENING, _CONTINGENCY, _FAULT = Mode.STANDBY, Mode.TIGHTENING, Mode.CONTINGENCY, Mode.FAULT
 
 
-def planned_mode(disjoint: bool, tightening_restricts: bool) -> Mode:
-    """The planner's verdict for a cycle with valid inputs."""
-    if not disjoint:
-        return _CONTINGENCY
-    return _TIGHTENING if tightening_restricts else _STANDBY
+def contingency_active(state: CoreState, params: CoreParams) -> bool:
+    """A contingency was active last cycle: held, in CONTINGENCY, or FAULT braking at the contingency's
+    deceleration (a recovering FAULT that braked for a path that was not disjoint)."""
+    return state.held_contingency or state.mode is _CONTINGENCY or (
+        state.mode is _FAULT and state.prev_decel_request_mps2 >= params.contingency_decel_mps2)
 
 
-def next_mode(
-    flags: int,
-    planned: Mode,
-    valid_cycles: int,
-    contingency_was_active: bool,
-    stopped: bool,
-    params: CoreParams,
-) -> ModeDecision:
-    """One transition of the state machine."""
-    if flags:
-        held = contingency_was_active and not stopped
-        return ModeDecision(_FAULT, 0, held, False)
-    count = min(params.fault_recovery_cycles, valid_cycles + 1)
-    if count < params.fault_recovery_cycles:
-        return ModeDecision(_FAULT, count, False, True)
-    return ModeDecision(planned, count, False, recovering=False)
+def decide(state: CoreState, plan: Plan, fault: int, stopped: bool,
+           params: CoreParams) -> tuple[Mode, int, bool, float, float]:
+    """One transition and the mode's commands: (mode, valid cycles, held contingency, throttle limit %,
+    deceleration request m/s^2).
+
+    ``fault``: the flags that fault this cycle (0: every input valid); ``stopped``: the car is at
+    standstill (read only while faulted). A contingency is released when ``plan.released``.
+    """
+    full = params.contingency_decel_mps2
+    if fault:
+        held = not stopped and contingency_active(state, params)
+        return _FAULT, 0, held, 0.0, full if held else 0.0
+    count = min(params.fault_recovery_cycles, state.valid_cycles + 1)
+    if count < params.fault_recovery_cycles:  # recovering: braking may be requested, throttle stays withheld
+        return _FAULT, count, False, 0.0, plan.decel_request_mps2 if plan.disjoint else full
+    if not (plan.released if state.mode is _CONTINGENCY else plan.disjoint):
+        return _CONTINGENCY, count, False, 0.0, full
+    if plan.tightening_restricts:
+        return _TIGHTENING, count, False, plan.throttle_limit_pct, plan.decel_request_mps2
+    return _STANDBY, count, False, 100.0, 0.0

@@ -1,14 +1,12 @@
 """Parameters of the pure ECU core: one frozen dataclass, every number a field.
 
-Units are SI and named in the field. The three strategies of the paper
-(Johnson 2019, section III) are named exactly ``none``, ``conservative`` and
-``tightening``; each selects a model-deceleration fraction (0.9, 0.8, 0.9) and
-``tightening`` additionally enables constraint tightening
-(:mod:`ecu.core.strategies`). Our extension ``adaptive`` is ``tightening``
-with ``peak_decel_mps2`` replaced, cycle by cycle, by the online estimate of
-the achievable deceleration (:mod:`ecu.core.decel_estimate`). The derived fields ``model_decel_mps2``,
-``tightening_enabled`` and ``hold_time_s`` are computed once at construction so the cycle does no
-table lookups:
+Units are SI and named in the field. ``strategy`` names one of the registry
+:data:`ecu.core.strategies.REGISTRY` (the DBC's ``EcuStatus.Strategy``
+values: the paper's ``none``, ``conservative`` and ``tightening``, Johnson
+2019 section III, and our ``adaptive``). The derived fields are computed once
+at construction so the cycle does no table lookups: ``strategy_rules`` (the strategy's
+module), ``strategy_code`` (its DBC value), ``hold_time_s`` and, with the
+strategy's ``strategy_rules.decel_fraction(params)``,
 
     model_decel_mps2 = fraction(strategy) * peak_decel_mps2
 
@@ -29,7 +27,10 @@ from can_dbc.contract import STRATEGIES as DBC_STRATEGIES
 
 from ..settings import Range, setting
 
-#: strategy name -> the DBC enumeration value of ``EcuStatus.Strategy`` (its ``VAL_``, lower case).
+from .strategy import Strategy
+
+#: strategy name -> the DBC enumeration value of ``EcuStatus.Strategy`` (its ``VAL_``, lower case);
+#: each has its module in :mod:`ecu.core.strategies`.
 STRATEGIES = STRATEGY_CODES
 #: driven axle name -> wheel indices (FL, FR, RL, RR order) of the *non-driven* wheels.
 NON_DRIVEN_WHEELS: dict[str, tuple[int, ...]] = {
@@ -168,25 +169,23 @@ class CoreParams:
 
     model_decel_mps2: float = field(init=False, repr=False, compare=False)
     model_decel_fraction: float = field(init=False, repr=False, compare=False)
-    tightening_enabled: bool = field(init=False, repr=False, compare=False)
-    adaptive_enabled: bool = field(init=False, repr=False, compare=False)
+    #: the strategy's rules (:mod:`ecu.core.strategies`): what it decides each cycle
+    strategy_rules: Strategy = field(init=False, repr=False, compare=False)
     strategy_code: int = field(init=False, repr=False, compare=False)
     #: t_h = cycle_s + actuation_latency_s: how long the driver's command is assumed held (s). A field set
     #: once here, not a property: read up to four times a cycle, a property call cost ~0.1 µs each (measured).
     hold_time_s: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        fractions = {
-            "none": self.none_decel_fraction,
-            "conservative": self.conservative_decel_fraction,
-            "tightening": self.tightening_decel_fraction,
-            "adaptive": self.tightening_decel_fraction,
-        }
-        if self.strategy not in fractions:
-            raise ValueError(f"strategy: expected one of {sorted(fractions)}, got {self.strategy!r}")
-        object.__setattr__(self, "model_decel_fraction", fractions[self.strategy])
-        object.__setattr__(self, "model_decel_mps2", fractions[self.strategy] * self.peak_decel_mps2)
-        object.__setattr__(self, "tightening_enabled", self.strategy in ("tightening", "adaptive"))
-        object.__setattr__(self, "adaptive_enabled", self.strategy == "adaptive")
+        # imported here: the strategies' modules import this one's module (decel_estimate: NON_DRIVEN_WHEELS)
+        from .strategies import REGISTRY
+
+        rules = REGISTRY.get(self.strategy)
+        if rules is None:
+            raise ValueError(f"strategy: expected one of {list(REGISTRY)}, got {self.strategy!r}")
+        fraction = rules.decel_fraction(self)
+        object.__setattr__(self, "strategy_rules", rules)
+        object.__setattr__(self, "model_decel_fraction", fraction)
+        object.__setattr__(self, "model_decel_mps2", fraction * self.peak_decel_mps2)
         object.__setattr__(self, "strategy_code", STRATEGIES[self.strategy])
         object.__setattr__(self, "hold_time_s", self.cycle_s + self.actuation_latency_s)

@@ -1,14 +1,18 @@
 """Plausibility of the inputs against each other and against physics (issue 15).
 
-Each check yields one ``FaultFlag`` (``EcuStatus.Fault<Name>``); all are pure
-functions of this cycle's inputs, the speed estimate and the parameters.
+Each check yields one ``FaultFlag`` (``EcuStatus.Fault<Name>``), a pure
+function of this cycle's inputs, the state, the speed estimate and the
+parameters: :func:`input_health` makes those that need no speed estimate
+(``WHEEL_SLIP``, ``PEDALS``, ``CLOCK``), :func:`speed_radar_implausible` the
+one that does.
 
 * ``WHEEL_SLIP``: while not braking, the four wheels roll at the car's speed
   except for the driven wheels' traction slip, so
   ``max(w) - min(w) <= wheel_slip_abs_mps + wheel_slip_fraction * max(w)``.
   Measured in the paper scenario without braking: at most 1.53 m/s, and at
   most 8.5 % above 5 m/s; the bounds (2 m/s + 30 %) leave twice that. While
-  braking, ABS lets a wheel run far below the car, so nothing is checked.
+  braking (commanded within ``brake_memory_s``, or the mean wheel speed
+  falling), ABS lets a wheel run far below the car, so nothing is checked.
 * ``SPEED_RADAR``: for a stationary object the closing speed ``-range_rate``
   equals our own speed; an object moving away closes slower. So a valid
   track closing faster than ``speed + radar_speed_tolerance_mps`` means our
@@ -28,72 +32,37 @@ functions of this cycle's inputs, the speed estimate and the parameters.
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 from .params import CoreParams
-from .relevance import in_path
-from .types import CoreInputs, CoreState, FaultFlag
-
-#: tolerance on time comparisons, as in :mod:`ecu.core.validity`
-_EPS_S = 1e-6
-_RATE_OR_SEQ = (1 << FaultFlag.RATE) | (1 << FaultFlag.SEQUENCE)
+from .types import RECEIVER_FLAGS, CoreInputs, CoreState, FaultFlag
+from .validity import AGE_TOLERANCE_S
 
 
-class InputHealth(NamedTuple):
-    """Fault flags of this cycle from these checks and the receiver, and which inputs may be used."""
-
-    flags: int
-    wheels_ok: bool
-    driver_ok: bool
-
-
-def wheel_slip_implausible(wheels_mps: tuple[float, ...], braking: bool, params: CoreParams) -> bool:
-    """Four wheels further apart than traction slip allows, while not braking."""
-    if braking:
-        return False
-    top = max(wheels_mps)
-    return top - min(wheels_mps) > params.wheel_slip_abs_mps + params.wheel_slip_fraction * top
+def speed_radar_implausible(speed_mps: float, inputs: CoreInputs, relevant: bool, params: CoreParams) -> bool:
+    """A ``relevant`` object (valid and in our path, :mod:`ecu.core.relevance`) closes faster than our
+    speed estimate plus the tolerance (out-of-path objects, e.g. oncoming traffic in the next lane,
+    are not compared)."""
+    return relevant and -inputs.object_range_rate_mps > speed_mps + params.radar_speed_tolerance_mps
 
 
-def pedals_implausible(accel_pedal: float, brake_pedal: float, params: CoreParams) -> bool:
-    """Both pedals pressed hard at once."""
-    limit = params.pedal_conflict_fraction
-    return accel_pedal > limit and brake_pedal > limit
-
-
-def speed_radar_implausible(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> bool:
-    """A valid object in our path closes faster than our speed estimate plus the tolerance
-    (out-of-path objects, e.g. oncoming traffic in the next lane, are not compared)."""
-    return (inputs.object_valid and in_path(inputs.object_lateral_m, params)
-            and -inputs.object_range_rate_mps > speed_mps + params.radar_speed_tolerance_mps)
-
-
-def clock_implausible(inputs: CoreInputs) -> bool:
-    """An input is stamped later than this cycle (the clock went backwards)."""
-    t = inputs.t_s + _EPS_S
-    return inputs.wheel_rx_t_s > t or inputs.driver_rx_t_s > t or inputs.object_rx_t_s > t
-
-
-def braking_now(state: CoreState, inputs: CoreInputs, params: CoreParams) -> bool:
-    """Braking as the speed estimate sees it: commanded within ``brake_memory_s``, or wheels slowing."""
-    if inputs.brake_pedal > 0.0 or state.prev_decel_request_mps2 > 0.0:
-        return True
-    if (state.cycles_since_brake + 1) * params.cycle_s < params.brake_memory_s:
-        return True
-    return state.speed_initialised and sum(inputs.wheel_speeds_mps) / 4.0 < state.prev_wheel_mean_mps
-
-
-def input_health(inputs: CoreInputs, braking: bool, params: CoreParams) -> InputHealth:
-    """Receiver flags, node flags and the plausibility checks that need no speed estimate."""
+def input_health(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[int, bool, bool]:
+    """(fault flags of the receiver, the node and the checks that need no speed estimate; whether the
+    wheel speeds and the driver input may be used). The checks are those of the module doc."""
     flags = inputs.wheel_rx_flags | inputs.driver_rx_flags | inputs.object_rx_flags | inputs.node_flags
-    slip = wheel_slip_implausible(inputs.wheel_speeds_mps, braking, params)
-    pedals = pedals_implausible(inputs.accel_pedal, inputs.brake_pedal, params)
+    wheels = inputs.wheel_speeds_mps
+    # braking as the speed estimate sees it: commanded within brake_memory_s, or the wheels slowing
+    braking = (inputs.brake_pedal > 0.0 or state.prev_decel_request_mps2 > 0.0
+               or (state.cycles_since_brake + 1) * params.cycle_s < params.brake_memory_s
+               or (state.speed_initialised and sum(wheels) / 4.0 < state.prev_wheel_mean_mps))
+    top = max(wheels)
+    slip = not braking and top - min(wheels) > params.wheel_slip_abs_mps + params.wheel_slip_fraction * top
     if slip:
         flags |= 1 << FaultFlag.WHEEL_SLIP
+    limit = params.pedal_conflict_fraction
+    pedals = inputs.accel_pedal > limit and inputs.brake_pedal > limit
     if pedals:
         flags |= 1 << FaultFlag.PEDALS
-    if clock_implausible(inputs):
+    late = inputs.t_s + AGE_TOLERANCE_S  # stamped after this cycle: the clock went backwards
+    if inputs.wheel_rx_t_s > late or inputs.driver_rx_t_s > late or inputs.object_rx_t_s > late:
         flags |= 1 << FaultFlag.CLOCK
-    wheels_ok = not (slip or inputs.wheel_rx_flags & _RATE_OR_SEQ)
-    driver_ok = not (pedals or inputs.driver_rx_flags & _RATE_OR_SEQ)
-    return InputHealth(flags, wheels_ok, driver_ok)
+    return (flags, not (slip or inputs.wheel_rx_flags & RECEIVER_FLAGS),
+            not (pedals or inputs.driver_rx_flags & RECEIVER_FLAGS))

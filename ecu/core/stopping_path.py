@@ -19,9 +19,10 @@ object's own speed along our path is ``v_obj = v_ego + r_dot``. For a moving
 object (``v_obj > moving_object_speed_mps``) "stop" means zero *relative*
 speed (the paper's footnote 1 allows either): ``v`` is replaced by the closing
 speed ``v_rel = max(0, -r_dot)`` and, for a constant-speed object,
-``a_rel = a``. Otherwise (stationary or oncoming) "stop" means zero absolute
-speed with ``v = v_ego``; an oncoming object's own stopping region is that
-agent's own responsibility under selective determinism.
+``a_rel = a`` (:mod:`ecu.core.relative_stop`, which the planner uses there).
+Otherwise (stationary or oncoming) "stop" means zero absolute speed with
+``v = v_ego``; an oncoming object's own stopping region is that agent's own
+responsibility under selective determinism.
 
 Disjoint iff ``d + standoff_m <= r``. No valid object: disjoint.
 """
@@ -46,20 +47,6 @@ def closing_speed_mps(speed_mps: float, range_rate_mps: float, params: CoreParam
     if object_speed_mps > params.moving_object_speed_mps:
         return max(0.0, -range_rate_mps)
     return max(0.0, speed_mps)
-
-
-def path_distance_m(
-    speed_mps: float,
-    accel_mps2: float,
-    object_valid: bool,
-    range_rate_mps: float,
-    params: CoreParams,
-    decel_mps2: float | None = None,
-) -> float:
-    """Stopping distance (m) toward the object (own speed when there is none); ``decel_mps2`` overrides D."""
-    v = closing_speed_mps(speed_mps, range_rate_mps, params) if object_valid else max(0.0, speed_mps)
-    d = params.model_decel_mps2 if decel_mps2 is None else decel_mps2
-    return stopping_distance_m(v, accel_mps2, params.hold_time_s, d)
 
 
 def is_disjoint(distance_m: float, object_valid: bool, range_m: float, params: CoreParams) -> bool:

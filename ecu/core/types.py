@@ -7,17 +7,24 @@ fields are the codec's E2E validity scores (0 good .. 5 invalid). The shell
 converts DBC units to these at the codec boundary.
 
 They are ``NamedTuple``s: immutable like frozen dataclasses, and built about
-three times faster, which matters at three records per 10 ms cycle. Change
-one field with ``record._replace(field=value)``.
+three times faster, which matters at three records per 10 ms cycle. Build
+them by field name (a field added later cannot shift the others); change one
+field with ``record._replace(field=value)``.
+
+The modes and the fault bits are the DBC's: :data:`Mode` is
+``SafetyOverride.Mode``'s ``VAL_`` table and :data:`FaultFlag` names
+``EcuStatus``'s ``Fault*`` signals in bit order (``FaultWheelSpeedTimeout`` ->
+``WHEEL_SPEED_TIMEOUT``, bit k at DBC bit 50 + k).
 """
 
 from __future__ import annotations
 
 import math
+import re
 from enum import IntEnum
 from typing import NamedTuple
 
-from can_dbc.contract import MODE_NAMES
+from can_dbc.contract import FAULT_SIGNALS, MODE_NAMES
 
 from .decel_estimate import DecelEstimate
 
@@ -27,24 +34,15 @@ NEVER_S = -math.inf
 Mode = IntEnum("Mode", {name: value for value, name in MODE_NAMES.items()}, module=__name__)
 
 
-class FaultFlag(IntEnum):
-    """Fault bit numbers; bit k is the ``EcuStatus`` signal at DBC bit 50 + k (``ecu.bus_port.FAULT_SIGNALS``)."""
+def _flag_name(signal_name: str) -> str:
+    """``FaultWheelSpeedTimeout`` -> ``WHEEL_SPEED_TIMEOUT`` (``FaultE2E`` -> ``E2E``)."""
+    return re.sub(r"(?<=[a-z])(?=[A-Z])", "_", signal_name.removeprefix("Fault")).upper()
 
-    WHEEL_SPEED_TIMEOUT = 0
-    DRIVER_INPUT_TIMEOUT = 1
-    OBJECT_TIMEOUT = 2
-    E2E_ERROR = 3
-    INTERNAL = 4
-    # issue 15 receiver, plausibility and node checks; EcuStatus.Fault<Name> at bit 50 + value
-    RATE = 5
-    WHEEL_SLIP = 6
-    SPEED_RADAR = 7
-    PEDALS = 8
-    CLOCK = 9
-    AUTH = 10
-    FOREIGN_OVERRIDE = 11
-    SEQUENCE = 12
 
+#: Fault bit numbers: bit k is ``EcuStatus``'s k-th ``Fault*`` signal (:data:`can_dbc.contract.FAULT_SIGNALS`).
+FaultFlag = IntEnum("FaultFlag", {_flag_name(name): bit for bit, name in enumerate(FAULT_SIGNALS)}, module=__name__)
+#: the receiver's findings (rate and sequence) that make an input unusable
+RECEIVER_FLAGS = (1 << FaultFlag.RATE) | (1 << FaultFlag.SEQUENCE)
 
 #: flags reported in EcuStatus that do not by themselves make the ECU leave its mode: a rejected
 #: forged frame leaves the authenticated stream trustworthy (see ecu/README.md, degraded mode)

@@ -9,8 +9,9 @@ ObjectTrack 250 ms. ``ObjectValid = 0`` is valid data (no object) and is not
 a fault. Non-finite or physically impossible values that reach the core are an
 internal fault (the codec should have stopped them).
 
-The result is the fault bit field (see :class:`FaultFlag`); ``EcuStatus`` carries each
-bit as its own signal (``ecu.bus_port.FAULT_SIGNALS``).
+The result is the fault bit field (see :class:`FaultFlag`; ``EcuStatus`` carries each
+bit as its own signal, ``ecu.bus_port.FAULT_SIGNALS``) and whether this cycle's wheel
+speeds may update the speed estimate: fresh, E2E-valid, finite and not negative.
 """
 
 from __future__ import annotations
@@ -25,23 +26,25 @@ AGE_TOLERANCE_S = 1e-6
 
 
 def _timed_out(t_s: float, rx_t_s: float, timeout_s: float) -> bool:
-    return not (t_s - rx_t_s <= timeout_s + AGE_TOLERANCE_S)  # NaN counts as timed out
+    """``not (t - rx_t <= timeout + tolerance)``: an age that is NaN counts as timed out."""
+    return not (t_s - rx_t_s <= timeout_s + AGE_TOLERANCE_S)
 
 
-def fault_flags(inputs: CoreInputs, params: CoreParams) -> int:
-    """The fault bit field for this cycle (0 when every input is valid)."""
+def input_validity(inputs: CoreInputs, params: CoreParams) -> tuple[int, bool]:
+    """(the fault bit field of this cycle's timeouts, E2E scores and impossible values, 0 when every input
+    is valid; whether the wheel speeds may update the speed estimate)."""
     t = inputs.t_s
     flags = 0
-    # _timed_out written out (three calls a cycle): not (age <= timeout + tolerance), so NaN times out
-    if not t - inputs.wheel_rx_t_s <= params.wheel_speeds_timeout_s + AGE_TOLERANCE_S:
+    wheels_late = _timed_out(t, inputs.wheel_rx_t_s, params.wheel_speeds_timeout_s)
+    if wheels_late:
         flags |= 1 << FaultFlag.WHEEL_SPEED_TIMEOUT
-    if not t - inputs.driver_rx_t_s <= params.driver_input_timeout_s + AGE_TOLERANCE_S:
+    if _timed_out(t, inputs.driver_rx_t_s, params.driver_input_timeout_s):
         flags |= 1 << FaultFlag.DRIVER_INPUT_TIMEOUT
-    if not t - inputs.object_rx_t_s <= params.object_timeout_s + AGE_TOLERANCE_S:
+    if _timed_out(t, inputs.object_rx_t_s, params.object_timeout_s):
         flags |= 1 << FaultFlag.OBJECT_TIMEOUT
     limit = params.e2e_invalid_score
     if max(inputs.wheel_e2e_score, inputs.driver_e2e_score, inputs.object_e2e_score) >= limit:
-        flags |= 1 << FaultFlag.E2E_ERROR
+        flags |= 1 << FaultFlag.E2E
     # non-finite or impossible values: one sum is finite iff every term is (NaN and inf propagate;
     # our magnitudes cannot overflow), and then the ranges
     wheels = inputs.wheel_speeds_mps
@@ -50,17 +53,8 @@ def fault_flags(inputs: CoreInputs, params: CoreParams) -> int:
             or min(wheels) < 0.0 or inputs.object_range_m < 0.0
             or not (0.0 <= inputs.accel_pedal <= 1.0 and 0.0 <= inputs.brake_pedal <= 1.0)):
         flags |= 1 << FaultFlag.INTERNAL
-    return flags
-
-
-def wheel_speeds_valid(inputs: CoreInputs, params: CoreParams) -> bool:
-    """Whether this cycle's wheel speeds may update the speed estimate."""
-    wheels = inputs.wheel_speeds_mps
-    return (
-        not _timed_out(inputs.t_s, inputs.wheel_rx_t_s, params.wheel_speeds_timeout_s)
-        and inputs.wheel_e2e_score < params.e2e_invalid_score
-        # a finite sum proves every term finite (NaN and inf propagate), and then min() is exact;
-        # a sum that overflowed falls back to the term-by-term test. Saves the generator (~0.6 µs).
-        and (math.isfinite(sum(wheels)) or all(math.isfinite(v) for v in wheels))
-        and min(wheels) >= 0.0
-    )
+    wheels_valid = (not wheels_late and inputs.wheel_e2e_score < limit
+                    # a finite sum proves every term finite; one that overflowed is tested term by term
+                    and (math.isfinite(sum(wheels)) or all(math.isfinite(v) for v in wheels))
+                    and min(wheels) >= 0.0)
+    return flags, wheels_valid

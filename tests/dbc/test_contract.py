@@ -63,3 +63,20 @@ def test_one_configuration_error_class():
 
     assert ecu.errors.ConfigError is cosim.errors.ConfigError is can_dbc.errors.ConfigError
     assert issubclass(can_dbc.errors.ConfigError, ValueError)
+
+
+def test_fault_bits_are_the_dbcs_fault_signals():
+    """Fault bit k is EcuStatus's k-th one-bit Fault* signal, at bit 50 + k (read by cantools on its own)."""
+    from can_dbc.contract import FAULT_BIT0, FAULT_SIGNALS
+    from ecu.bus_port import FAULT_SIGNALS as BUS_FAULT_SIGNALS, fault_flags_of, fault_signals
+    from ecu.core import FaultFlag
+
+    faults = [s for s in DB.get_message_by_name("EcuStatus").signals if s.name.startswith("Fault")]
+    assert FAULT_BIT0 == 50 and len(faults) == len(FaultFlag) == 13
+    for sig in faults:
+        bit = sig.start - FAULT_BIT0
+        assert sig.length == 1 and FAULT_SIGNALS[bit] == sig.name == BUS_FAULT_SIGNALS[FaultFlag(bit)]
+        assert FaultFlag(bit).name.replace("_", "") == sig.name.removeprefix("Fault").upper()
+    assert FaultFlag.E2E == 3 and FaultFlag.SEQUENCE == 12
+    every = (1 << len(FaultFlag)) - 1
+    assert fault_flags_of(fault_signals(every)) == every and fault_signals(1 << FaultFlag.AUTH)["FaultAuth"] == 1

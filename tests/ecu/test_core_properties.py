@@ -8,8 +8,8 @@ from hypothesis import given, settings, strategies as st
 
 from ecu.core.relative_stop import is_moving, relative_approach_m, relative_disjoint
 from ecu.core import CoreInputs, CoreParams, CoreState, FaultFlag, Mode, step
-from ecu.core.stopping_path import is_disjoint, path_distance_m
-from ecu.core.strategies import driver_accel_mps2
+from ecu.core.intent import driver_accel_mps2
+from ecu.core.stopping_path import is_disjoint, stopping_distance_m
 
 ANY_FLOAT = st.floats(allow_nan=True, allow_infinity=True)
 _speed = st.floats(0.0, 40.0)
@@ -49,7 +49,7 @@ def _inputs(k: int, c: dict, p: CoreParams) -> CoreInputs:
     t = k * 0.01
     if c["margin"] is not None:
         v = sum(c["wheels"]) / 4
-        d = path_distance_m(v, driver_accel_mps2(c["accel"], c["brake"], p), True, -v, p)
+        d = stopping_distance_m(v, driver_accel_mps2(c["accel"], c["brake"], p), p.hold_time_s, p.model_decel_mps2)
         c = {**c, "valid": True, "rate": -v, "range_m": min(250.0, d + p.standoff_m + c["margin"])}
     rx = {"wheel_rx_t_s": t, "driver_rx_t_s": t, "object_rx_t_s": t}
     if c["stale"]:
@@ -95,7 +95,7 @@ def test_never_more_throttle_than_the_disjointness_check_allows(p, cycles):
             approach = relative_approach_m(rate, command, p)
             assert relative_disjoint(approach - 1e-9, inputs.object_range_m, p)
             continue
-        d = path_distance_m(out.speed_estimate_mps, command, inputs.object_valid, rate, p)
+        d = stopping_distance_m(out.speed_estimate_mps, command, p.hold_time_s, p.model_decel_mps2)
         assert is_disjoint(d - 1e-9, inputs.object_valid, inputs.object_range_m, p)
 
 

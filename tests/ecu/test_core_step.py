@@ -61,7 +61,7 @@ def test_no_new_braking_from_invalid_data():
     stale = lambda t: fresh(t, range_m=5.0)._replace(object_rx_t_s=0.11, object_e2e_score=5)
     state, outs = run(stale, 30, state, 12)
     assert all(o.mode == Mode.FAULT and o.brake_decel_request_mps2 == 0.0 for o in outs)
-    assert outs[-1].fault_flags & (1 << FaultFlag.E2E_ERROR)
+    assert outs[-1].fault_flags & (1 << FaultFlag.E2E)
 
 
 def test_non_finite_inputs_are_an_internal_fault_not_a_crash():

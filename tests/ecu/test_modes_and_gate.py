@@ -7,34 +7,57 @@ import numpy as np
 import pytest
 
 from can_dbc import LAYOUTS
-from ecu.core import CoreParams, Mode
+from ecu.core import CoreParams, CoreState, Mode, Plan
 from ecu.core import output_gate as og
-from ecu.core.modes import next_mode, planned_mode
+from ecu.core.modes import decide
 
 P = CoreParams()
 
 
-def test_planner_verdicts():
-    assert planned_mode(False, True) == Mode.CONTINGENCY
-    assert planned_mode(True, True) == Mode.TIGHTENING
-    assert planned_mode(True, False) == Mode.STANDBY
+def _plan(disjoint: bool = True, restricts: bool = False, released: bool | None = None) -> Plan:
+    return Plan(proximity=0.5, throttle_limit_pct=40.0 if restricts else 100.0,
+                decel_request_mps2=2.0 if restricts else 0.0, tightening_restricts=restricts,
+                stopping_distance_m=30.0, disjoint=disjoint, released=disjoint if released is None else released)
+
+
+def _settled(mode: Mode = Mode.STANDBY, **fields) -> CoreState:
+    return CoreState(mode=mode, valid_cycles=P.fault_recovery_cycles, **fields)
+
+
+def test_planner_verdicts_and_their_commands():
+    assert decide(_settled(), _plan(disjoint=False), 0, False, P) == (Mode.CONTINGENCY, 10, False, 0.0, 15.0)
+    assert decide(_settled(), _plan(restricts=True), 0, False, P) == (Mode.TIGHTENING, 10, False, 40.0, 2.0)
+    assert decide(_settled(), _plan(), 0, False, P) == (Mode.STANDBY, 10, False, 100.0, 0.0)
+
+
+def test_a_contingency_is_released_only_with_the_release_margin():
+    assert decide(_settled(Mode.CONTINGENCY), _plan(released=False), 0, False, P)[0] == Mode.CONTINGENCY
+    assert decide(_settled(Mode.CONTINGENCY), _plan(released=True), 0, False, P)[0] == Mode.STANDBY
+    assert decide(_settled(Mode.STANDBY), _plan(released=False), 0, False, P)[0] == Mode.STANDBY
 
 
 def test_fault_recovery_counts_valid_cycles():
-    count = 0
+    state = CoreState()
     for k in range(P.fault_recovery_cycles):
-        d = next_mode(0, Mode.STANDBY, count, False, False, P)
-        count = d.valid_cycles
+        mode, count, held, throttle, decel = decide(state, _plan(), 0, False, P)
         expected = Mode.STANDBY if k == P.fault_recovery_cycles - 1 else Mode.FAULT
-        assert d.mode == expected and d.recovering == (expected == Mode.FAULT)
-    again = next_mode(0b1, Mode.STANDBY, count, False, False, P)
-    assert again.mode == Mode.FAULT and again.valid_cycles == 0
+        assert (mode, count) == (expected, k + 1) and not held
+        assert throttle == (100.0 if expected == Mode.STANDBY else 0.0)
+        state = state._replace(mode=mode, valid_cycles=count)
+    # recovering with valid data: braking may be requested (a path that is not disjoint: full braking)
+    assert decide(CoreState(), _plan(disjoint=False), 0, False, P)[3:] == (0.0, 15.0)
+    assert decide(CoreState(), _plan(restricts=True), 0, False, P)[3:] == (0.0, 2.0)
+    again = decide(state, _plan(), 0b1, False, P)
+    assert again[:2] == (Mode.FAULT, 0) and again[3:] == (0.0, 0.0)
 
 
 def test_contingency_is_held_through_a_fault_until_stopped():
-    assert next_mode(0b100, Mode.STANDBY, 10, True, False, P).held_contingency
-    assert not next_mode(0b100, Mode.STANDBY, 10, True, True, P).held_contingency
-    assert not next_mode(0b100, Mode.CONTINGENCY, 10, False, False, P).held_contingency
+    braking = CoreState(mode=Mode.CONTINGENCY, prev_decel_request_mps2=15.0, valid_cycles=10)
+    assert decide(braking, _plan(), 0b100, False, P)[2:] == (True, 0.0, 15.0)
+    assert decide(braking, _plan(), 0b100, True, P)[2:] == (False, 0.0, 0.0)
+    held = CoreState(mode=Mode.FAULT, held_contingency=True)
+    assert decide(held, _plan(), 0b100, False, P)[2] is True
+    assert decide(_settled(), _plan(disjoint=False), 0b100, False, P)[2:] == (False, 0.0, 0.0)  # never started
 
 
 def test_gate_limits_match_the_dbc():

@@ -3,19 +3,20 @@
 import pytest
 
 from ecu.core import CoreParams
-from ecu.core.speed_estimate import candidate_speed_mps, update_speed_mps
+from ecu.core.speed_estimate import update_speed_mps
 
 P = CoreParams()  # front-wheel driven, slope limits -(9+2) and +(3+2) m/s^2
 
 
 def test_braking_takes_the_fastest_wheel():
-    assert candidate_speed_mps((0.0, 18.0, 20.0, 19.0), True, P) == 20.0
+    assert update_speed_mps(0.0, False, (0.0, 18.0, 20.0, 19.0), True, P) == 20.0  # not initialised: the candidate
 
 
 def test_accelerating_takes_the_slowest_non_driven_wheel():
-    assert candidate_speed_mps((25.0, 26.0, 20.0, 20.5), False, P) == 20.0
+    assert update_speed_mps(0.0, False, (25.0, 26.0, 20.0, 20.5), False, P) == 20.0
     rear = CoreParams(driven_axle="rear")
-    assert candidate_speed_mps((20.0, 20.5, 25.0, 26.0), False, rear) == 20.0
+    assert update_speed_mps(0.0, False, (20.0, 20.5, 25.0, 26.0), False, rear) == 20.0
+    assert update_speed_mps(0.0, False, (20.0, 20.5, 25.0, 19.0), False, CoreParams(driven_axle="all")) == 19.0
 
 
 def test_all_wheels_locked_falls_no_faster_than_the_slope_limit():

@@ -3,7 +3,8 @@
 import pytest
 
 from ecu.core import CoreParams
-from ecu.core.stopping_path import closing_speed_mps, is_disjoint, path_distance_m, stopping_distance_m
+from ecu.core.relative_stop import relative_approach_m
+from ecu.core.stopping_path import closing_speed_mps, is_disjoint, stopping_distance_m
 
 P = CoreParams(strategy="none")  # D = 0.9 * 9 = 8.1, t_h = 0.11, standoff 2
 
@@ -25,15 +26,16 @@ def test_stopping_within_the_hold_uses_the_commanded_deceleration():
 def test_conservative_fraction_lengthens_the_path():
     cons = CoreParams(strategy="conservative")
     assert cons.model_decel_mps2 == pytest.approx(7.2)
-    assert path_distance_m(20, 3, False, 0, cons) > path_distance_m(20, 3, False, 0, P)
+    assert stopping_distance_m(20, 3, cons.hold_time_s, cons.model_decel_mps2) > \
+        stopping_distance_m(20, 3, P.hold_time_s, P.model_decel_mps2)
 
 
 def test_moving_object_means_zero_relative_speed():
     assert closing_speed_mps(20.0, -5.0, P) == 5.0    # object at 15 m/s ahead
     assert closing_speed_mps(20.0, -20.0, P) == 20.0  # stationary: own speed
     assert closing_speed_mps(20.0, -30.0, P) == 20.0  # oncoming: zero absolute speed
-    d = path_distance_m(20.0, 3.0, True, -5.0, P)
-    assert d == pytest.approx(stopping_distance_m(5.0, 3.0, 0.11, 8.1))
+    # behind it, the relative approach is the stopping distance from the closing speed
+    assert relative_approach_m(-5.0, 3.0, P) == pytest.approx(stopping_distance_m(5.0, 3.0, 0.11, 8.1))
 
 
 def test_disjointness_boundary_and_no_object():

@@ -3,7 +3,9 @@
 import pytest
 
 from ecu.core import CoreParams
-from ecu.core.strategies import driver_accel_mps2, proximity, tighten
+from ecu.core.intent import driver_accel_mps2
+from ecu.core.proximity import proximity
+from ecu.core.strategies.tightening import tighten
 
 # D = 0.9 * 9 = 8.1, a_max = 3, standoff 2, t_h = 0.01 + 0.1, margin scale 10 m, C = 15.
 P = CoreParams(strategy="tightening")
