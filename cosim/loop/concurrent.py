@@ -11,8 +11,10 @@ of ``strategies`` (``tests/cosim/test_concurrent_runs.py``).
   at once. A worker that dies without a word (a crash in the FMU's C code) breaks its pool, and a
   broken pool ends its other workers: with one pool per run, only that run is lost, the error names
   it, and the other runs go on (so which runs have results does not depend on timing);
-* **fork**, so that a worker starts in milliseconds with crd (and matplotlib, when the caller has
-  imported it) already imported, and inherits the job instead of receiving it pickled;
+* **fork**, so that a worker starts in milliseconds with crd already imported, and inherits the job
+  instead of receiving it pickled; the workers only run: this process takes each record as it comes
+  (``crd paper`` draws its timeline), and has work of its own while the first runs go (``meanwhile``:
+  ``crd paper`` imports matplotlib then, which each worker would otherwise import again);
 * **signals**: a worker has its own process group, so a terminal's Ctrl-C reaches crd alone. Each
   SIGINT/SIGTERM crd gets while runs go is passed on to every worker: the first ends each run with its
   results so far, and no new run starts; a second one ends the workers at once (SIGKILL), as it ends
@@ -20,9 +22,6 @@ of ``strategies`` (``tests/cosim/test_concurrent_runs.py``).
   its run started ends it before it starts, and one sent after does not cut its reply in two;
 * **failures**: a run that raises, or whose worker ends without reporting, is a :class:`RunFailed`
   naming the run, raised after every run has ended (the other runs' records are kept).
-
-A worker returns its record without the frame log unless asked (``keep_frames``): the frames are on
-disk already (``can.blf``), and pickling 26,000 frames per run would cost more CPU than a plot.
 """
 
 from __future__ import annotations
@@ -39,10 +38,12 @@ from ..errors import CosimError
 from ..results.held_signals import SIGNALS, signals_held
 from ..results.run_record import RunRecord
 
-__all__ = ["Job", "RunFailed", "cores", "run_concurrently"]
+__all__ = ["Job", "OnRecord", "RunFailed", "cores", "run_concurrently"]
 
 #: one run: strategy -> its record
 Job = Callable[[str], RunRecord]
+#: what this process does with each record as it comes in: (the record, every record so far in order)
+OnRecord = Callable[[RunRecord, list[RunRecord]], None]
 
 #: in a worker process: the job it runs (:func:`_start_worker`)
 _job: Job | None = None
@@ -71,27 +72,24 @@ def _start_worker(job: Job) -> None:
     _job = job
 
 
-def _run(strategy: str, keep_frames: bool) -> RunRecord:
+def _run(strategy: str) -> RunRecord:
     """One run in a worker, SIGINT/SIGTERM unblocked while it goes (a pending one is raised at once)."""
     signal.pthread_sigmask(signal.SIG_UNBLOCK, SIGNALS)
     try:
-        record = _job(strategy)
+        return _job(strategy)
     finally:
         signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
-    if not keep_frames:
-        record.frames = []
-    return record
 
 
 class _Worker:
     """One run's pool, its future and its worker process."""
 
-    def __init__(self, strategy: str, job: Job, keep_frames: bool) -> None:
+    def __init__(self, strategy: str, job: Job) -> None:
         self.strategy = strategy
         self.pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("fork"),
                                         initializer=_start_worker, initargs=(job,))
         known = set(multiprocessing.active_children())
-        self.future: Future = self.pool.submit(_run, strategy, keep_frames)  # forks the worker
+        self.future: Future = self.pool.submit(_run, strategy)  # forks the worker
         self.process = next(p for p in multiprocessing.active_children() if p not in known)
 
     def signal(self, signum: int) -> None:
@@ -150,8 +148,8 @@ def _passed_on(workers: dict[Future, _Worker]) -> Iterator[list[int]]:
 class _Series:
     """The parent's side of :func:`run_concurrently`: the runs waiting, running and done."""
 
-    def __init__(self, strategies: Sequence[str], job: Job, keep_frames: bool) -> None:
-        self.order, self.job, self.keep_frames = list(strategies), job, keep_frames
+    def __init__(self, strategies: Sequence[str], job: Job, meanwhile: Callable[[], None] | None) -> None:
+        self.order, self.job, self.meanwhile = list(strategies), job, meanwhile
         self.waiting, self.running = list(strategies), {}
         self.results: dict[str, RunRecord] = {}
         self.failures: list[RunFailed] = []
@@ -166,10 +164,17 @@ class _Series:
             self.waiting.clear()
         while self.waiting and len(self.running) < jobs:
             with signals_held():
-                worker = _Worker(self.waiting.pop(0), self.job, self.keep_frames)
+                worker = _Worker(self.waiting.pop(0), self.job)
                 self.running[worker.future] = worker
 
-    def collect(self, on_record: Callable[[list[RunRecord]], None]) -> None:
+    def work_meanwhile(self) -> None:
+        """The caller's own work while the first runs go, once, taken whole."""
+        task, self.meanwhile = self.meanwhile, None
+        if task is not None:
+            with signals_held():
+                task()
+
+    def collect(self, on_record: OnRecord) -> None:
         """Wait for a run to end; take its outcome whole (a signal meanwhile is held)."""
         done, _ = wait(list(self.running), return_when=FIRST_COMPLETED)
         with signals_held():
@@ -178,7 +183,7 @@ class _Series:
                 outcome = worker.outcome()
                 if isinstance(outcome, RunRecord):
                     self.results[worker.strategy] = outcome
-                    on_record(self.records())
+                    on_record(outcome, self.records())
                 elif isinstance(outcome, RunFailed):
                     self.failures.append(outcome)
                 else:
@@ -192,21 +197,23 @@ class _Series:
             worker.pool.shutdown()
 
 
-def run_concurrently(strategies: Sequence[str], job: Job, records: list[RunRecord],
-                     on_record: Callable[[list[RunRecord]], None], jobs: int, keep_frames: bool = False) -> None:
+def run_concurrently(strategies: Sequence[str], job: Job, records: list[RunRecord], on_record: OnRecord,
+                     jobs: int, meanwhile: Callable[[], None] | None = None) -> None:
     """Run ``job(strategy)`` for each of ``strategies`` in worker processes, at most ``jobs`` at once.
 
-    ``records`` gets their records, in the order of ``strategies``, on every way out; ``on_record(records
-    so far)`` is called after each run. A failed run (:class:`RunFailed`) is raised after every run has
+    ``records`` gets their records, in the order of ``strategies``, on every way out. Here, with SIGINT
+    and SIGTERM held: ``meanwhile()`` once the first runs go, and ``on_record(record, records so far)``
+    as each run's record comes in. A failed run (:class:`RunFailed`) is raised after every run has
     ended; an interrupt that reached no run's loop is raised on; a second interrupt is raised at once.
     Call from the main thread, with no other thread running (a fork copies only the calling thread).
     """
-    series = _Series(strategies, job, keep_frames)
+    series = _Series(strategies, job, meanwhile)
     try:
         with _passed_on(series.running) as received:
             while series.waiting or series.running:
                 try:
                     series.start(max(1, jobs), received)
+                    series.work_meanwhile()
                     series.collect(on_record)
                 except KeyboardInterrupt as exc:  # passed on to the runs: wait for their records
                     if len(received) > 1:

@@ -176,20 +176,29 @@ def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> 
 
 def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
                       records: list[RunRecord], out_dir: Path | None, fmu_path: Path) -> None:
-    """The runs in worker processes (:func:`cosim.loop.concurrent.run_concurrently`), each drawing its own
-    timeline; ``metrics.json`` after each. What every worker needs is made here once and inherited:
-    matplotlib imported (0.37 s, which each worker would spend again), and a plant in this process
-    prepared (:func:`~cosim.world.plant_fmu.fmu_shared`: hashed, parsed, extracted)."""
+    """The runs in worker processes (:func:`cosim.loop.concurrent.run_concurrently`); here, each run's
+    timeline and ``metrics.json`` as its record comes in, and matplotlib imported while the first runs go.
+    A plant in this process is prepared once (:func:`~cosim.world.plant_fmu.fmu_shared`: hashed, parsed,
+    extracted), and every worker inherits it."""
 
-    def on_record(done: list[RunRecord]) -> None:
+    def on_record(record: RunRecord, done: list[RunRecord]) -> None:
         if out_dir is not None:
+            timeline(out_dir / record.strategy / "timeline.png", record)
             write_metrics(out_dir / "metrics.json", done, provenance(scenario, done), "running")
 
-    if out_dir is not None:
-        preload_matplotlib()
+    job = functools.partial(_frames_on_disk, run) if out_dir is not None else functools.partial(run, plot=False)
     shared = fmu_shared(fmu_path) if isolation_of(scenario.plant) == "inprocess" else contextlib.nullcontext()
     with shared:
-        run_concurrently(strategies, run, records, on_record, jobs=cores(), keep_frames=out_dir is None)
+        run_concurrently(strategies, job, records, on_record, jobs=cores(),
+                         meanwhile=preload_matplotlib if out_dir is not None else None)
+
+
+def _frames_on_disk(run: Callable[..., RunRecord], strategy: str) -> RunRecord:
+    """A run in a worker, its record sent back without the frame log: the frames are on disk (``can.blf``),
+    and pickling 26,000 frames per run would cost more CPU than a plot."""
+    record = run(strategy, plot=False)
+    record.frames = []
+    return record
 
 
 def _speed_profiles(out_dir: Path, scenario: Scenario, records: Sequence[RunRecord]) -> None:

@@ -45,7 +45,7 @@ def mode_levels() -> dict[str, int]:
 
 
 def preload_matplotlib() -> None:
-    """Import matplotlib now (0.37 s), e.g. before forking workers that plot (:mod:`cosim.loop.concurrent`)."""
+    """Import matplotlib now (0.4 s), e.g. while runs go in worker processes (:mod:`cosim.loop.concurrent`)."""
     _pyplot()
 
 

@@ -4,7 +4,8 @@
   profiles, resolved configuration) and the same records, in order, as one run
   after the other; on a short scenario with radar noise, so that each run's
   result depends on its seed.
-* Records come in the order of the strategies, whichever run ends first.
+* Records come in the order of the strategies, whichever run ends first; the caller's own
+  work (``meanwhile``) runs once, in its process, while the first runs go.
 * A failing run still reports: the others' records are kept and its error,
   naming the run, is raised; a worker that dies without a word is an error
   naming its strategy and exit status.
@@ -79,18 +80,18 @@ def _job(strategy: str) -> RunRecord:
     return _record(strategy)
 
 
-def _series(strategies: list[str], records: list[RunRecord], job=_job, keep_frames: bool = False,
-            seen_b=None) -> list[list[str]]:
+def _series(strategies: list[str], records: list[RunRecord], job=_job, seen_b=None) -> list[list[str]]:
     """Run ``strategies`` two at a time into ``records``; the strategies of the records at each ``on_record``
     (``seen_b``: an event set once they include b)."""
     seen: list[list[str]] = []
 
-    def on_record(done: list[RunRecord]) -> None:
+    def on_record(record: RunRecord, done: list[RunRecord]) -> None:
+        assert record in done
         seen.append([r.strategy for r in done])
         if seen_b is not None and "b" in seen[-1]:
             seen_b.set()
 
-    run_concurrently(strategies, job, records, on_record, jobs=2, keep_frames=keep_frames)
+    run_concurrently(strategies, job, records, on_record, jobs=2)
     return seen
 
 
@@ -106,10 +107,24 @@ def test_records_come_in_order_whichever_run_ends_first():
     seen = _series(["a", "b", "c", "d"], records, job, seen_b=b_in)
     assert [r.strategy for r in records] == ["a", "b", "c", "d"]
     assert seen[0] == ["b"] and seen[1] == ["a", "b"] and seen[-1] == ["a", "b", "c", "d"]
-    assert records[0].frames == [] and records[0].rows == [(0.0,)]
-    kept: list[RunRecord] = []
-    _series(["a"], kept, keep_frames=True)
-    assert kept[0].frames == [LoggedFrame(0.0, 1, b"\x01")]
+    assert records[0].frames == [LoggedFrame(0.0, 1, b"\x01")] and records[0].rows == [(0.0,)]  # sent back whole
+
+
+def test_meanwhile_runs_here_once_while_the_first_runs_go():
+    done = multiprocessing.get_context("fork").Event()
+    calls: list[int] = []
+
+    def meanwhile() -> None:  # crd paper: import matplotlib
+        calls.append(os.getpid())
+        done.set()
+
+    def job(strategy: str) -> RunRecord:
+        assert done.wait(WAIT_S), "meanwhile() did not run while the runs went"
+        return _record(strategy)
+
+    records: list[RunRecord] = []
+    run_concurrently(["a", "b", "c"], job, records, lambda record, done: None, jobs=2, meanwhile=meanwhile)
+    assert calls == [os.getpid()] and [r.strategy for r in records] == ["a", "b", "c"]
 
 
 def test_a_failing_run_still_reports_and_the_others_are_kept():
@@ -142,7 +157,7 @@ def test_a_signal_ends_the_running_runs_and_no_new_run_starts(tmp_path):
         raise AssertionError("the signal was not passed on within WAIT_S")
 
     records: list[RunRecord] = []
-    run_concurrently(["a", "b"], job, records, lambda done: None, jobs=1)
+    run_concurrently(["a", "b"], job, records, lambda record, done: None, jobs=1)
     assert [(r.strategy, r.interrupted) for r in records] == [("a", "SIGINT")]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a"]
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
