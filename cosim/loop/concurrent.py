@@ -50,11 +50,18 @@ _job: Job | None = None
 
 
 class RunFailed(CosimError, RuntimeError):
-    """A run in a worker process raised (its exception is the cause), or its worker ended without reporting."""
+    """A run failed: it raised in its worker process or taking its record in raised here (the exception is
+    the cause), or its worker ended without reporting."""
 
     def __init__(self, strategy: str, message: object) -> None:
         super().__init__(f"{strategy}: {message}")
         self.strategy = strategy
+
+
+def _failed(strategy: str, exc: BaseException) -> RunFailed:
+    failed = RunFailed(strategy, exc)
+    failed.__cause__ = exc
+    return failed
 
 
 def cores() -> int:
@@ -110,9 +117,7 @@ class _Worker:
             self.process.join()
             return RunFailed(self.strategy, f"the worker process ended (exit status {self.process.exitcode})"
                                             " without reporting")
-        failed = RunFailed(self.strategy, exc)
-        failed.__cause__ = exc
-        return failed
+        return _failed(self.strategy, exc)
 
 
 @contextmanager
@@ -183,11 +188,18 @@ class _Series:
                 outcome = worker.outcome()
                 if isinstance(outcome, RunRecord):
                     self.results[worker.strategy] = outcome
-                    on_record(outcome, self.records())
+                    self.take(outcome, on_record)
                 elif isinstance(outcome, RunFailed):
                     self.failures.append(outcome)
                 else:
                     self.interrupt = self.interrupt or outcome
+
+    def take(self, record: RunRecord, on_record: OnRecord) -> None:
+        """``on_record`` for a record; what it raises is a failure of that run, raised after the others."""
+        try:
+            on_record(record, self.records())
+        except Exception as exc:  # noqa: BLE001 - e.g. a timeline that cannot be written: the runs go on
+            self.failures.append(_failed(record.strategy, exc))
 
     def end_running(self) -> None:
         """On the way out of an error here: every run still going ends with its results so far, as on SIGTERM."""

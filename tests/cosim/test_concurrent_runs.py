@@ -135,6 +135,17 @@ def test_a_failing_run_still_reports_and_the_others_are_kept():
     assert [r.strategy for r in records] == ["a", "b"]
 
 
+def test_a_record_that_cannot_be_taken_fails_its_run_and_the_others_go_on():
+    def on_record(record: RunRecord, done: list[RunRecord]) -> None:  # crd paper: its timeline, metrics.json
+        if record.strategy == "b":
+            raise OSError("No space left on device")
+
+    records: list[RunRecord] = []
+    with pytest.raises(RunFailed, match=r"^b: No space left on device$"):
+        run_concurrently(["a", "b", "c"], _job, records, on_record, jobs=2)
+    assert [r.strategy for r in records] == ["a", "b", "c"]
+
+
 def test_a_worker_that_dies_is_an_error_naming_its_strategy():
     records: list[RunRecord] = []
     with pytest.raises(RunFailed, match=r"^crash: the worker process ended \(exit status 3\) without reporting$"):
