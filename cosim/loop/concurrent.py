@@ -8,13 +8,18 @@ scheduled: the files are byte for byte those of a sequential run, and the record
 of ``strategies`` (``tests/cosim/test_concurrent_runs.py``).
 
 * **a** :class:`~concurrent.futures.ProcessPoolExecutor` **of one worker per run**, at most ``jobs``
-  at once. A worker that dies without a word (a crash in the FMU's C code) breaks its pool, and a
-  broken pool ends its other workers: with one pool per run, only that run is lost, the error names
-  it, and the other runs go on (so which runs have results does not depend on timing);
+  at once. A worker that dies without a word (a crash in the FMU's C code) breaks its pool, and a broken
+  pool sends SIGTERM to its other workers (whose runs would then end with their results and wait for
+  ever to send them to a pool that no longer reads). With one pool per run, only that run is lost, the
+  error names it, and the other runs go on (so which runs have results does not depend on timing);
 * **fork**, so that a worker starts in milliseconds with crd already imported, and inherits the job
-  instead of receiving it pickled; the workers only run: this process takes each record as it comes
-  (``crd paper`` draws its timeline), and has work of its own while the first runs go (``meanwhile``:
-  ``crd paper`` imports matplotlib then, which each worker would otherwise import again);
+  instead of receiving it pickled. A fork copies only the calling thread: the only other threads here
+  are the running pools' own (a manager and a queue feeder each), and a worker touches no lock of
+  another pool, only its own pool's queues (with any other thread running, ``run_strategies`` runs
+  them one after the other);
+* **the workers only run**: this process takes each record as it comes (``crd paper`` draws its
+  timeline), and does work of its own while the first runs go (``meanwhile``: ``crd paper`` imports
+  matplotlib then, which each worker would otherwise import again);
 * **signals**: a worker has its own process group, so a terminal's Ctrl-C reaches crd alone. Each
   SIGINT/SIGTERM crd gets while runs go is passed on to every worker: the first ends each run with its
   results so far, and no new run starts; a second one ends the workers at once (SIGKILL), as it ends
@@ -29,6 +34,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+import warnings
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
@@ -96,7 +102,12 @@ class _Worker:
         self.pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("fork"),
                                         initializer=_start_worker, initargs=(job,))
         known = set(multiprocessing.active_children())
-        self.future: Future = self.pool.submit(_run, strategy)  # forks the worker
+        with warnings.catch_warnings():
+            # Python 3.12+ warns of any fork beside other threads; those here are the running pools' own,
+            # whose locks the worker never takes (module docstring)
+            warnings.filterwarnings("ignore", r"This process .* is multi-threaded, use of fork\(\)",
+                                    DeprecationWarning)
+            self.future: Future = self.pool.submit(_run, strategy)  # forks the worker
         self.process = next(p for p in multiprocessing.active_children() if p not in known)
 
     def signal(self, signum: int) -> None:
