@@ -86,10 +86,14 @@ def _hide_unused_asammdf(argv: list[str]) -> None:
     """Start without asammdf unless a ``.mf4`` file is named.
 
     python-can imports asammdf (and with it pandas: about 1 s and 60 MB) on
-    ``import can`` whenever it is installed (the ``crd[mdf]`` extra), although
-    only MF4 files need it. Marking it absent before ``can`` is imported keeps
-    every other command, and each spawned ``crd ecu``, as quick to start as
-    without the extra. Only the ``crd`` command does this, never an in-process call.
+    ``import can`` whenever it is installed (the ``crd[mdf]`` and ``crd[test]``
+    extras), although only MF4 files need it. Marking it absent before ``can`` is
+    imported (``None`` in :data:`sys.modules`: the import system's documented way to
+    say "not installed") keeps every other command, and each spawned ``crd ecu``, as
+    quick to start as without the extra. Only the ``crd`` command does this, never an
+    in-process call. Measured (issue 20): ``import can`` 0.09 s instead of 0.55 s;
+    ``crd paper`` 4.46 s instead of 5.63 s wall, 4.20 s instead of 5.22 s CPU
+    (medians of 9 alternating runs on the shared 2-core machine): 21 % of its time.
     """
     if "can" not in sys.modules and not any(a.lower().endswith(".mf4") for a in argv):
         sys.modules.setdefault("asammdf", None)

@@ -190,20 +190,23 @@ class _Series:
             with signals_held():
                 task()
 
-    def collect(self, on_record: OnRecord) -> None:
-        """Wait for a run to end; take its outcome whole (a signal meanwhile is held)."""
+    def collect(self, on_record: OnRecord, jobs: int, received: list[int]) -> None:
+        """Wait for runs to end; start the next ones, then take the records (signals held meanwhile)."""
         done, _ = wait(list(self.running), return_when=FIRST_COMPLETED)
         with signals_held():
-            for future in done:
-                worker = self.running.pop(future)
+            records = []
+            for worker in [self.running.pop(future) for future in done]:
                 outcome = worker.outcome()
                 if isinstance(outcome, RunRecord):
                     self.results[worker.strategy] = outcome
-                    self.take(outcome, on_record)
+                    records.append(outcome)
                 elif isinstance(outcome, RunFailed):
                     self.failures.append(outcome)
                 else:
                     self.interrupt = self.interrupt or outcome
+            self.start(jobs, received)  # before this process's work on the records: no core waits for it
+            for record in records:
+                self.take(record, on_record)
 
     def take(self, record: RunRecord, on_record: OnRecord) -> None:
         """``on_record`` for a record; what it raises is a failure of that run, raised after the others."""
@@ -237,7 +240,7 @@ def run_concurrently(strategies: Sequence[str], job: Job, records: list[RunRecor
                 try:
                     series.start(max(1, jobs), received)
                     series.work_meanwhile()
-                    series.collect(on_record)
+                    series.collect(on_record, max(1, jobs), received)
                 except KeyboardInterrupt as exc:  # passed on to the runs: wait for their records
                     if len(received) > 1:
                         raise
