@@ -186,6 +186,8 @@ enabled = false
 @pytest.mark.wallclock
 @pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_a_signal_ends_every_running_run_with_its_results(plant_fmu3, tmp_path, sig, code):
+    """``crd paper`` as a child, signalled once every run has streamed 3 s (a condition on its files).
+    Wall-clock: the signal lands wherever the runs are by then, so the check is a range (>= 3 s)."""
     scenario = tmp_path / "open_road.toml"
     scenario.write_text(NO_OBJECT)
     out = tmp_path / "out"

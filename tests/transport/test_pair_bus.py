@@ -37,6 +37,7 @@ def test_two_buses_exchange_frames_in_order_both_ways(channel: str) -> None:
 
 @pytest.mark.wallclock
 def test_no_peer_is_an_error_on_send_and_a_timeout_on_recv(channel: str) -> None:
+    """Wall-clock by nature: ``recv`` must return None once its timeout (wall time) has passed."""
     with PairSocketBus(channel) as alone:
         with pytest.raises(can.CanOperationError, match="no peer"):
             alone.send(_frame(1))
