@@ -7,15 +7,15 @@ Alternating, ``--repeat`` rounds (default 5), in this one process:
 
 * the paper scenario in process for each strategy, over our ``crd_inproc`` bus
   (the default) and over python-can's ``virtual`` bus: × real time
-  (simulated s / wall s). Goal: the slowest strategy >= 300× on ``crd_inproc``;
+  (simulated s / wall s; the 300× goal of issue 10 is withdrawn by issue 20);
 * the plant alone: the same FMU through fmpy's public slave API, ``set`` the
   inputs + ``doStep`` 1 ms + ``get`` the outputs at every 1 ms step, over the
   same simulated time as that strategy's run. Goal: closed loop ÷ plant alone
   <= 1.0;
-* ``crd paper`` as a child process (FMU built): wall time (goal <= 1.3 s), its
+* ``crd paper`` as a child process (FMU built): wall time (goal <= 2.5 s, issue 20), its
   CPU time (user + sys of it and its workers: less disturbed by neighbours than
   the wall time), and peak memory (goal <= 150 MB). ``crd paper`` runs the
-  strategies in forked workers, so its memory is that of a process tree: the
+  strategies in worker processes (forked), so its memory is that of a process tree: the
   goal is judged on the peak of the tree's summed PSS (proportional set size:
   a page shared by n processes counts 1/n in each, so the sum is the memory the
   tree really holds), sampled from ``/proc/<pid>/smaps_rollup`` every 5 ms in
@@ -260,13 +260,13 @@ def report_loops(figures: dict) -> None:
         print(f"{s:<13}" + "".join(f"{_spread(figures[(s, *key)], fmt):>20}" for _, key, fmt in columns))
     slowest = min(STRATEGIES, key=lambda s: statistics.median(figures[(s, "crd_inproc")]))
     print(f"slowest strategy in process ({slowest}): {_spread(figures[(slowest, 'crd_inproc')])}x real time, "
-          f"{_spread(figures[(slowest, 'crd_inproc', 'cpu')])}x over CPU time (goal >= 300x); closed loop / "
+          f"{_spread(figures[(slowest, 'crd_inproc', 'cpu')])}x over CPU time; closed loop / "
           f"plant alone {_spread(figures[(slowest, 'ratio')], '{:.2f}')} (goal <= 1.0)")
 
 
 def report_paper(figures: dict, name: str = "paper", source: Path | None = None) -> None:
     label = "crd paper" if name == "paper" else f"crd paper from the baseline {source}"
-    print(f"{label}: wall {_spread(figures[(name, 'wall')], '{:.2f}')} s (goal <= 1.3 s), "
+    print(f"{label}: wall {_spread(figures[(name, 'wall')], '{:.2f}')} s (goal <= 2.5 s), "
           f"CPU {_spread(figures[(name, 'cpu')], '{:.2f}')} s (all its processes)")
     pss, rss, hwm = paper_tree_memory(source)
     print(f"{label} memory (one run sampled every 5 ms): peak of the process tree's summed PSS {pss:.0f} MB "

@@ -2,8 +2,7 @@
 
 Runs ``none``, ``conservative`` and ``tightening`` on ``paper_cyclist.toml``
 (side by side, one per core, when the ECU runs in process: :mod:`cosim.loop.concurrent`;
-the same files and table as one after the other; the plots drawn by a plot worker that
-``crd`` forks before it imports the rest of crd: :func:`plot_worker_ahead`),
+the same files and table as one after the other),
 writes every run's outputs, ``speed_profiles.png`` and ``report.md``, prints a
 table and each claim of the paper with PASS or FAIL
 (:mod:`cosim.results.paper_claims`), and exits 3 if any claim fails, 4 if a
@@ -20,9 +19,6 @@ import argparse
 import sys
 from pathlib import Path
 
-# Nothing of crd but the plot worker (standard library only) here: ``crd`` imports this module before
-# it forks the plot worker (plot_worker_ahead); add_subparser and _do_paper import the rest meanwhile.
-from ..results.plot_worker import PlotWorker, cores
 
 PAPER_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper_cyclist.toml"
 EXIT_CLAIM_FAILED = 3
@@ -39,25 +35,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--with-adaptive", action="store_true",
                    help="also run our extension 'adaptive' (shown beside the three; the claims concern the three)")
     add_ecu_arguments(p, realtime=False)
-    p.set_defaults(func=interruptible(_do_paper), plot_worker=None)
-
-
-def plot_worker_ahead(argv: list[str]) -> PlotWorker | None:
-    """For ``crd paper`` whose runs will go side by side (the ECU in process, two cores or more, one
-    thread): a plot worker forked now, before crd's imports, so that it imports matplotlib meanwhile
-    (:mod:`cosim.results.plot_worker`). None for ``--help`` or an ECU out of process (a guess from
-    ``argv``: the runs start a plot worker of their own if this one is missing)."""
-    import threading
-
-    early = argparse.ArgumentParser(add_help=False)
-    early.add_argument("-h", "--help", action="store_true")
-    early.add_argument("--ecu", default="inprocess")
-    known, _ = early.parse_known_args(argv)
-    if known.help or known.ecu != "inprocess" or cores() < 2 or threading.active_count() > 1:
-        return None
-    import numpy  # noqa: F401 - first: crd and matplotlib both need it, and one copy of its pages then serves both
-
-    return PlotWorker.start()
+    p.set_defaults(func=interruptible(_do_paper))
 
 
 def _do_paper(args: argparse.Namespace) -> int:
@@ -74,7 +52,7 @@ def _do_paper(args: argparse.Namespace) -> int:
     strategies = list(REQUIRED) + (["adaptive"] if args.with_adaptive else [])
     print(f"crd paper: {path.name}, strategies {', '.join(strategies)} -> {args.out}", file=sys.stderr)
     records = run_strategies(scenario, strategies, args.out, progress=progress_printer,
-                              ecu=ecu_options(args), judge=verdicts, concurrent=True, plot_worker=args.plot_worker)
+                              ecu=ecu_options(args), judge=verdicts, concurrent=True)
     end_progress()
     print(results_table(records))
     for line in timing_lines(records):

@@ -1,310 +1,254 @@
-"""Independent strategy runs side by side in forked processes (``run_strategies(..., concurrent=True)``).
+"""Independent strategy runs side by side in worker processes (``run_strategies(..., concurrent=True)``).
 
-The runs of ``crd paper`` share nothing: each has its own FMU instance, its own
-in-process bus and its own files under ``out_dir/<strategy>/``. The loop is pure
-Python (one core per process under the GIL), so on a machine with two cores
-two runs take about the time of one. Every run's result depends only on the
-scenario and the strategy (time is an integer counter, random sources are
-seeded), never on how the runs are scheduled: the files are byte for byte the
-ones a sequential run writes and the records are collected in the order of
-``strategies`` (``tests/cosim/test_concurrent_runs.py``).
+The runs of ``crd paper`` share nothing: each has its own FMU instance, its own in-process bus and its
+own files under ``out_dir/<strategy>/``. The loop is pure Python (one core per process under the GIL),
+so on two cores two runs take about the time of one. Every run's result depends only on the scenario
+and the strategy (time is an integer counter, random sources are seeded), never on how the runs are
+scheduled: the files are byte for byte those of a sequential run, and the records come in the order
+of ``strategies`` (``tests/cosim/test_concurrent_runs.py``).
 
-* **fork**, so that a worker starts in milliseconds with the parent's modules
-  already imported (a fresh interpreter would import them again: 0.3 s), and
-  ``gc.freeze()`` before it, so that the worker's collector never walks (and so
-  never copies) the objects it inherits;
-* **at most ``jobs`` runs at once** (the number of cores): ``jobs`` run
-  workers each take the next strategy not yet taken (a counter in shared
-  memory, so no run waits for the busy parent), simulate it, write its
-  streamed files and send its record;
-* **the plots in a plot worker** (:class:`cosim.results.plot_worker.PlotWorker`,
-  started ahead by ``crd paper`` or here beside the run workers): it imports
-  matplotlib while the first runs go, draws each run's ``timeline.png`` as its
-  record arrives and, when every run is in, the figure of every run beside the
-  last timeline. The run workers only simulate: a forked worker that plots
-  writes to matplotlib's pages and holds a second copy of them (about 25 MB
-  each), and the parent stays free to collect records and pass on signals;
-* **signals**: each worker has its own process group, so a terminal's Ctrl-C
-  reaches the parent only; the parent passes the SIGINT/SIGTERM it gets to
-  every run worker, once. Each ends its run with the results so far
-  (:mod:`cosim.cli.signals`) and reports it as interrupted; no new run starts;
-  the plot worker draws what it was given before (no timeline of an
-  interrupted run, no finale: the caller draws that one);
-* **failures**: a run that fails still reports, and the other runs go on (so
-  which runs have results does not depend on timing). An exception in a run is
-  sent back and raised in the parent after the other runs are collected (their
-  records kept); a worker that dies without a word (a crash in the FMU's C
-  code) is an error naming the strategy and the exit status, and the other
-  workers take the runs it would have taken.
-
-A worker sends its record without the frame log when the frames are on disk
-already (``keep_frames=False``: the CAN logs were streamed): the parent uses the
-metrics, the time series and the events, and pickling 26 000 frames per run
-would cost more CPU than a plot.
+* **a** :class:`~concurrent.futures.ProcessPoolExecutor` **of one worker per run**, at most ``jobs``
+  at once. A worker that dies without a word (a crash in the FMU's C code) breaks its pool, and a broken
+  pool sends SIGTERM to its other workers (whose runs would then end with their results and wait for
+  ever to send them to a pool that no longer reads). With one pool per run, only that run is lost, the
+  error names it, and the other runs go on (so which runs have results does not depend on timing);
+* **fork**, so that a worker starts in milliseconds with crd already imported, and inherits the job
+  instead of receiving it pickled. A fork copies only the calling thread: the only other threads here
+  are the running pools' own (a manager and a queue feeder each), and a worker touches no lock of
+  another pool, only its own pool's queues (with any other thread running, ``run_strategies`` runs
+  them one after the other);
+* **the workers only run**: this process takes each record as it comes (``crd paper`` draws its
+  timeline), and does work of its own while the first runs go (``meanwhile``: ``crd paper`` imports
+  matplotlib then, which each worker would otherwise import again);
+* **signals**: a worker has its own process group, so a terminal's Ctrl-C reaches crd alone. Each
+  SIGINT/SIGTERM crd gets while runs go is passed on to every worker: the first ends each run with its
+  results so far, and no new run starts; a second one ends the workers at once (SIGKILL), as it ends
+  crd (:mod:`cosim.cli.signals`). A worker blocks the two signals outside its run, so one sent before
+  its run started ends it before it starts, and one sent after does not cut its reply in two;
+* **failures**: a run that raises, or whose worker ends without reporting, is a :class:`RunFailed`
+  naming the run, raised after every run has ended (the other runs' records are kept).
 """
 
 from __future__ import annotations
 
-import gc
 import multiprocessing
 import os
-import pickle
-import tempfile
-from dataclasses import dataclass
-from multiprocessing.connection import Connection, wait
-from typing import Callable, Sequence
+import signal
+import warnings
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
+from typing import Callable, Iterator, Sequence
 
-from ..results.plot_worker import Drawing, PlotWorker, Failure, attempt, cores, send
+from ..errors import CosimError
+from ..results.held_signals import SIGNALS, signals_held
 from ..results.run_record import RunRecord
 
-__all__ = ["Job", "Plots", "cores", "run_concurrently"]
+__all__ = ["Job", "OnRecord", "RunFailed", "cores", "run_concurrently"]
 
 #: one run: strategy -> its record
 Job = Callable[[str], RunRecord]
+#: what this process does with each record as it comes in: (the record, every record so far in order)
+OnRecord = Callable[[RunRecord, list[RunRecord]], None]
+
+#: in a worker process: the job it runs (:func:`_start_worker`)
+_job: Job | None = None
 
 
-@dataclass(frozen=True)
-class Plots:
-    """What the plot worker draws (a :class:`~cosim.results.plot_worker.Drawing`): ``preload()`` imports
-    matplotlib, ``timeline(record)`` draws one run's timeline, ``finale(records)`` the figure of every run
-    (drawn when every run has a record). Closures do: a worker forked here inherits them."""
+class RunFailed(CosimError, RuntimeError):
+    """A run failed: it raised in its worker process or taking its record in raised here (the exception is
+    the cause), or its worker ended without reporting."""
 
-    preload: Callable[[], None]
-    timeline: Callable[[RunRecord], None]
-    finale: Callable[[list[RunRecord]], None] | None = None
+    def __init__(self, strategy: str, message: object) -> None:
+        super().__init__(f"{strategy}: {message}")
+        self.strategy = strategy
 
 
-def _lane(conn: Connection, job: Job, strategies: Sequence[str], taken, spool: str, keep_frames: bool) -> None:
-    """A run worker: take the next strategy not yet taken, run it, send its record; until none is left.
+def _failed(strategy: str, exc: BaseException) -> RunFailed:
+    failed = RunFailed(strategy, exc)
+    failed.__cause__ = exc
+    return failed
 
-    The record goes through a file in ``spool`` and the pipe carries its name: a record is
-    larger than the pipe's buffer, and the next run should not wait until the parent reads it;
-    nor is a record sent before a crash lost. The plot worker reads the same file.
-    """
-    os.setpgid(0, 0)  # signals come from the parent only (module docstring)
+
+def cores() -> int:
+    """The cores this process may run on (its CPU affinity where the OS tells it, else all of them)."""
     try:
-        while True:
-            with taken.get_lock():
-                i, taken.value = taken.value, taken.value + 1
-            if i >= len(strategies):
-                return
-            result = attempt(lambda: _run(job, strategies[i], keep_frames))
-            if isinstance(result, RunRecord):
-                path = os.path.join(spool, f"{i}.pickle")
-                with open(path, "wb") as handle:
-                    pickle.dump(result, handle, protocol=pickle.HIGHEST_PROTOCOL)
-                send(conn, (strategies[i], _Spooled(path)))
-                if result.interrupted:
-                    return
-            else:
-                send(conn, (strategies[i], result))
-    except (KeyboardInterrupt, BrokenPipeError):
-        return  # a signal outside a run's loop (no more runs), or the parent has gone
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def _start_worker(job: Job) -> None:
+    """A worker's set-up: its own process group (module docstring); ``job`` comes through the fork."""
+    global _job
+    os.setpgid(0, 0)
+    _job = job
+
+
+def _run(strategy: str) -> RunRecord:
+    """One run in a worker, SIGINT/SIGTERM unblocked while it goes (a pending one is raised at once)."""
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, SIGNALS)
+    try:
+        return _job(strategy)
     finally:
-        conn.close()
+        signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
 
 
-class _Spooled:
-    """A record pickled to ``path`` (removed with the spool directory, once the plot worker is done)."""
+class _Worker:
+    """One run's pool, its future and its worker process."""
 
-    def __init__(self, path: str) -> None:
-        self.path = path
+    def __init__(self, strategy: str, job: Job) -> None:
+        self.strategy = strategy
+        self.pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("fork"),
+                                        initializer=_start_worker, initargs=(job,))
+        known = set(multiprocessing.active_children())
+        with warnings.catch_warnings():
+            # Python 3.12+ warns of any fork beside other threads; those here are the running pools' own,
+            # whose locks the worker never takes (module docstring)
+            warnings.filterwarnings("ignore", r"This process .* is multi-threaded, use of fork\(\)",
+                                    DeprecationWarning)
+            self.future: Future = self.pool.submit(_run, strategy)  # forks the worker
+        self.process = next(p for p in multiprocessing.active_children() if p not in known)
 
-    def load(self) -> RunRecord:
-        with open(self.path, "rb") as handle:
-            return pickle.load(handle)
-
-
-def _run(job: Job, strategy: str, keep_frames: bool) -> RunRecord:
-    record = job(strategy)
-    if not keep_frames:
-        record.frames = []
-    return record
-
-
-class Workers:
-    """Forked run workers and their pipes; each message is (strategy, payload)."""
-
-    def __init__(self) -> None:
-        self._context = multiprocessing.get_context("fork")
-        self._running: dict[Connection, multiprocessing.process.BaseProcess] = {}
-        #: exit statuses of the workers that ended other than normally (a crash, a kill)
-        self.crashes: list[int | None] = []
-
-    def count(self) -> int:
-        return len(self._running)
-
-    def start(self, target: Callable[..., None], *args: object) -> None:
-        """Fork a worker ``target(pipe, *args)``."""
-        receive, send_end = self._context.Pipe(duplex=False)
-        gc.freeze()  # the worker inherits a frozen heap (module docstring) ...
+    def signal(self, signum: int) -> None:
         try:
-            process = self._context.Process(target=target, args=(send_end, *args), daemon=True)
-            process.start()
-        finally:
-            gc.unfreeze()  # ... and the parent keeps collecting as before
-            send_end.close()
-        try:
-            os.setpgid(process.pid, process.pid)  # as the worker does: whichever comes first
-        except OSError:
-            pass  # the worker has set it already, or has ended
-        self._running[receive] = process
+            os.kill(self.process.pid, signum)
+        except ProcessLookupError:
+            pass  # it has ended
 
-    def messages(self) -> list[tuple[str, object]]:
-        """Messages from the workers; waits for one, or for a worker to end."""
-        found = []
-        for conn in wait(list(self._running)):
-            try:
-                found.append(conn.recv())
-                continue
-            except EOFError:
-                process = self._running.pop(conn)
-            conn.close()
-            process.join()
-            if process.exitcode != 0:
-                self.crashes.append(process.exitcode)
-        return found
+    def outcome(self) -> RunRecord | BaseException:
+        """The record, or what went wrong (the run's pool is shut down)."""
+        exc = self.future.exception()
+        self.pool.shutdown()
+        if exc is None:
+            return self.future.result()
+        if isinstance(exc, KeyboardInterrupt):
+            return exc  # a signal outside the run's loop: before it started, or as it returned
+        if isinstance(exc, BrokenProcessPool):
+            self.process.join()
+            return RunFailed(self.strategy, f"the worker process ended (exit status {self.process.exitcode})"
+                                            " without reporting")
+        return _failed(self.strategy, exc)
 
-    def forward(self, signum: int) -> None:
-        """Pass ``signum`` to every run worker."""
-        for process in self._running.values():
-            try:
-                os.kill(process.pid, signum)
-            except ProcessLookupError:
-                pass
 
-    def stop(self) -> None:
-        """End every worker still running (on the way out of an error in the parent)."""
-        for conn, process in list(self._running.items()):
-            conn.close()  # first: a worker blocked on sending to us gets EPIPE instead of waiting
-            process.terminate()
-            process.join()
-        self._running.clear()
+@contextmanager
+def _passed_on(workers: dict[Future, _Worker]) -> Iterator[list[int]]:
+    """Each SIGINT/SIGTERM this process gets within the block goes to the ``workers`` first (a second one as
+    SIGKILL), then to the handler from before. Yields the signals received. Only a signal with a handler
+    set in Python or its default action is passed on (an ignored one stays ignored); main thread only."""
+    received: list[int] = []
+    previous: dict[int, object] = {}
+    here = os.getpid()
+
+    def pass_on(signum: int, frame) -> None:
+        received.append(signum)
+        for worker in list(workers.values()) if os.getpid() == here else ():  # a worker inherits this handler
+            worker.signal(signum if len(received) == 1 else signal.SIGKILL)
+        handler = previous[signum]
+        if callable(handler):
+            handler(signum, frame)
+        else:  # the default action
+            signal.signal(signum, signal.SIG_DFL)
+            signal.raise_signal(signum)
+
+    for sig in SIGNALS:
+        if signal.getsignal(sig) != signal.SIG_IGN:
+            previous[sig] = signal.signal(sig, pass_on)
+    try:
+        yield received
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 class _Series:
-    """The parent's side of :func:`run_concurrently`."""
+    """The parent's side of :func:`run_concurrently`: the runs waiting, running and done."""
 
-    def __init__(self, strategies: Sequence[str], painter: PlotWorker | None,
-                 on_record: Callable[[list[RunRecord]], None]) -> None:
-        self.order, self.painter, self.on_record = list(strategies), painter, on_record
-        self.workers = Workers()
-        self.taken = multiprocessing.get_context("fork").Value("i", 0)  # next strategy to start
+    def __init__(self, strategies: Sequence[str], job: Job, meanwhile: Callable[[], None] | None) -> None:
+        self.order, self.job, self.meanwhile = list(strategies), job, meanwhile
+        self.waiting, self.running = list(strategies), {}
         self.results: dict[str, RunRecord] = {}
-        self.paths: dict[str, str] = {}  # strategy -> its pickled record (read by the plot worker)
-        self.failures: list[BaseException] = []
-        self.failed: set[str] = set()
+        self.failures: list[RunFailed] = []
         self.interrupt: KeyboardInterrupt | None = None
-        self.drawing: Drawing | None = None  # what the painter draws
-        self.finale_asked = False
 
     def records(self) -> list[RunRecord]:
         return [self.results[s] for s in self.order if s in self.results]
 
-    def start(self, job: Job, jobs: int, spool: str, keep_frames: bool) -> None:
-        for _ in range(min(max(1, jobs), len(self.order))):
-            self.workers.start(_lane, job, self.order, self.taken, spool, keep_frames)
+    def start(self, jobs: int, received: list[int]) -> None:
+        """Start runs until ``jobs`` go (none after a signal); each worker is known before a handler runs."""
+        if received or self.interrupt is not None:
+            self.waiting.clear()
+        while self.waiting and len(self.running) < jobs:
+            with signals_held():
+                worker = _Worker(self.waiting.pop(0), self.job)
+                self.running[worker.future] = worker
 
-    def unreported(self) -> list[BaseException]:
-        """An error for each run started but never reported by a worker that crashed."""
-        if not self.workers.crashes:
-            return []  # a run ended by a signal outside its loop reports nothing: the interrupt says it
-        started = self.order[:min(self.taken.value, len(self.order))]
-        status = ", ".join(str(code) for code in self.workers.crashes)
-        return [RuntimeError(f"{s}: the worker process ended (exit status {status}) without reporting")
-                for s in started if s not in self.results and s not in self.failed]
+    def work_meanwhile(self) -> None:
+        """The caller's own work while the first runs go, once, taken whole."""
+        task, self.meanwhile = self.meanwhile, None
+        if task is not None:
+            with signals_held():
+                task()
 
-    def no_new_runs(self) -> None:
-        with self.taken.get_lock():
-            self.taken.value = len(self.order)
+    def collect(self, on_record: OnRecord, jobs: int, received: list[int]) -> None:
+        """Wait for runs to end; start the next ones, then take the records (signals held meanwhile)."""
+        done, _ = wait(list(self.running), return_when=FIRST_COMPLETED)
+        with signals_held():
+            records = []
+            for worker in [self.running.pop(future) for future in done]:
+                outcome = worker.outcome()
+                if isinstance(outcome, RunRecord):
+                    self.results[worker.strategy] = outcome
+                    records.append(outcome)
+                elif isinstance(outcome, RunFailed):
+                    self.failures.append(outcome)
+                else:
+                    self.interrupt = self.interrupt or outcome
+            self.start(jobs, received)  # before this process's work on the records: no core waits for it
+            for record in records:
+                self.take(record, on_record)
 
-    def loop(self) -> None:
-        """Collect the records, each passed on to the plot worker, until every run worker has ended."""
-        while self.workers.count():
-            try:
-                for key, payload in self.workers.messages():
-                    self._take(key, payload)
-            except KeyboardInterrupt as exc:
-                self.interrupted(exc)
-
-    def interrupted(self, exc: KeyboardInterrupt) -> None:
-        """Pass an interrupt on to the run workers, once (a second one is raised); no new runs."""
-        if self.interrupt is not None:
-            raise exc
-        self.interrupt = exc
-        self.no_new_runs()
-        from ..errors import interrupt_signal  # here: cosim.errors imports can_dbc (this module is imported early)
-
-        self.workers.forward(interrupt_signal(exc))
-
-    def _take(self, key: str, payload: object) -> None:
-        if isinstance(payload, Failure):
-            self.failures.append(payload.exc)
-            self.failed.add(key)
-        elif isinstance(payload, _Spooled):
-            self.results[key], self.paths[key] = payload.load(), payload.path
-            self._draw(payload.path)
-            self.on_record(self.records())
-
-    def _draw(self, path: str) -> None:
-        """Ask for the timeline of the record at ``path``; with the last run's, once every run is in and
-        none failed, the figure of every run in the same message (:meth:`PlotWorker.last`: side by side)."""
-        if self.painter is None or self.interrupt is not None:
-            return
-        if (self.drawing is not None and self.drawing.finale is not None and not self.failures
-                and len(self.results) == len(self.order)):
-            self.painter.last(path, [self.paths[s] for s in self.order])
-            self.finale_asked = True
-        else:
-            self.painter.timeline(path)
-
-    def finish_plots(self) -> None:
-        """Wait for the plot worker (an interrupt meanwhile is passed on; a second one is raised)."""
-        self.painter.finish()
-        while True:
-            try:
-                self.failures += self.painter.failures()
-                return
-            except KeyboardInterrupt as exc:
-                self.interrupted(exc)
-
-
-def run_concurrently(strategies: Sequence[str], job: Job, records: list[RunRecord], plots: Drawing | None,
-                     on_record: Callable[[list[RunRecord]], None], jobs: int, keep_frames: bool = False,
-                     plot_worker: PlotWorker | None = None) -> bool:
-    """Run ``strategies``, at most ``jobs`` at once; ``records`` gets their records in that order.
-
-    ``plots`` (None: no plots) is drawn by ``plot_worker`` (started ahead; ``plots`` is then pickled
-    to it) or by one forked here: each run's timeline as its record arrives, the finale with the last
-    one's when every run is in (:class:`Plots`); the plot worker is stopped on every way out.
-    ``on_record(records so far, in order)`` after each run (``metrics.json``).
-    ``records`` is filled on every way out; a failure (a run's or a plot's) is raised
-    after every run is collected, and an interrupt that reached no run is raised on.
-    Returns whether ``plots.finale`` was asked for (a failure to draw it is raised).
-    """
-    spool = tempfile.TemporaryDirectory(prefix="crd-runs-")
-    series = _Series(strategies, None, on_record)
-    try:
+    def take(self, record: RunRecord, on_record: OnRecord) -> None:
+        """``on_record`` for a record; what it raises is a failure of that run, raised after the others."""
         try:
-            series.start(job, jobs, spool.name, keep_frames)
-            if plots is not None:  # after the run workers: they go first
-                series.painter = plot_worker or PlotWorker.start(plots)
-                series.painter.bind(plots)
-                series.drawing = plots
-        except KeyboardInterrupt as exc:
-            series.interrupted(exc)
-        series.loop()
-        if series.painter is not None:
-            series.finish_plots()
+            on_record(record, self.records())
+        except Exception as exc:  # noqa: BLE001 - e.g. a timeline that cannot be written: the runs go on
+            self.failures.append(_failed(record.strategy, exc))
+
+    def end_running(self) -> None:
+        """On the way out of an error here: every run still going ends with its results so far, as on SIGTERM."""
+        for worker in self.running.values():
+            worker.signal(signal.SIGTERM)
+        for worker in self.running.values():
+            worker.pool.shutdown()
+
+
+def run_concurrently(strategies: Sequence[str], job: Job, records: list[RunRecord], on_record: OnRecord,
+                     jobs: int, meanwhile: Callable[[], None] | None = None) -> None:
+    """Run ``job(strategy)`` for each of ``strategies`` in worker processes, at most ``jobs`` at once.
+
+    ``records`` gets their records, in the order of ``strategies``, on every way out. Here, with SIGINT
+    and SIGTERM held: ``meanwhile()`` once the first runs go, and ``on_record(record, records so far)``
+    as each run's record comes in. A failed run (:class:`RunFailed`) is raised after every run has
+    ended; an interrupt that reached no run's loop is raised on; a second interrupt is raised at once.
+    Call from the main thread, with no other thread running (a fork copies only the calling thread).
+    """
+    series = _Series(strategies, job, meanwhile)
+    try:
+        with _passed_on(series.running) as received:
+            while series.waiting or series.running:
+                try:
+                    series.start(max(1, jobs), received)
+                    series.work_meanwhile()
+                    series.collect(on_record, max(1, jobs), received)
+                except KeyboardInterrupt as exc:  # passed on to the runs: wait for their records
+                    if len(received) > 1:
+                        raise
+                    series.interrupt = series.interrupt or exc
     finally:
-        series.workers.stop()
-        for painter in {series.painter, plot_worker} - {None}:
-            painter.stop()
-        spool.cleanup()
+        series.end_running()
         records[:] = series.records()
-    failures = series.failures + series.unreported()
-    if failures:
-        raise failures[0]
+    if series.failures:
+        raise series.failures[0]
     if series.interrupt is not None and not any(r.interrupted for r in records):
         raise series.interrupt
-    return series.finale_asked

@@ -28,8 +28,7 @@ from .concurrent import cores, run_concurrently
 from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
-from ..results.plot_worker import PlotWorker
-from ..results.plots import SeriesPlots, timeline
+from ..results.plots import preload_matplotlib, speed_profiles, timeline
 from ..results.report import Verdict, fmt, write_report
 from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
@@ -100,8 +99,8 @@ def check_run(scenario: Scenario, record: RunRecord) -> list[str]:
 
 def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
                    can_logs: Sequence[str] = (), progress: Callable[[str], Progress] | None = None,
-                   ecu: EcuOptions | None = None, judge: Judge | None = None, concurrent: bool = False,
-                   plot_worker: PlotWorker | None = None) -> list[RunRecord]:
+                   ecu: EcuOptions | None = None, judge: Judge | None = None,
+                   concurrent: bool = False) -> list[RunRecord]:
     """Run each strategy; with ``out_dir``, write metrics, logs, time series, config, plots and ``report.md``.
 
     With ``out_dir``: the directory is checked before anything runs, the files are written
@@ -111,19 +110,19 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     ``can_logs``: CAN log files besides ``can.blf`` (checked before any run);
     ``ecu`` says where the ECU runs (default: in process; see :mod:`cosim.link.ecu_link`);
     ``judge`` gives the report's verdicts (default: the scenario's ``[checks]``);
-    ``concurrent``: side by side in forked processes (:mod:`cosim.loop.concurrent`) when
-    there are several runs, each ECU in process and more than one core (``plot_worker``: one started ahead).
+    ``concurrent``: side by side in worker processes (:mod:`cosim.loop.concurrent`) when
+    there are several runs, each ECU in process and more than one core.
     """
     logs, fmu_path = _preflight(scenario, strategies, out_dir, can_logs)
     records: list[RunRecord] = []
-    status, error, profiles_drawn = "running", None, False
+    status, error = "running", None
     try:
         if out_dir is not None:
             out_dir.mkdir(parents=True, exist_ok=True)
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
         run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
-        series = _series(concurrent, strategies, ecu, plot_worker, fmu_path)
-        profiles_drawn = series(scenario, strategies, run, records, out_dir)
+        series = _series(concurrent, strategies, ecu, fmu_path)
+        series(scenario, strategies, run, records, out_dir)
         status = _series_status(records)
     except KeyboardInterrupt as exc:
         status, error = "interrupted", str(exc)
@@ -134,7 +133,7 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     finally:
         if out_dir is not None:
             _write_summary(out_dir, scenario, records, judge or (lambda recs: check_verdicts(scenario, recs)),
-                           status, error, profiles_drawn)
+                           status, error)
     if status == "interrupted":
         raise _interrupted(next(r for r in records if r.interrupted), out_dir)
     return records
@@ -148,8 +147,8 @@ def _series_status(records: Sequence[RunRecord]) -> str:
 
 
 def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
-                 records: list[RunRecord], out_dir: Path | None) -> bool:
-    """One run after the other; stops after a run ended by a signal. False: no speed profiles drawn yet."""
+                 records: list[RunRecord], out_dir: Path | None) -> None:
+    """One run after the other; stops after a run ended by a signal."""
     for i, strategy in enumerate(strategies):
         record = run(strategy, last=i == len(strategies) - 1)
         records.append(record)
@@ -157,15 +156,14 @@ def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..
             break
         if out_dir is not None:
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), "running")
-    return False
 
 
 def _series(concurrent: bool, strategies: Sequence[str], ecu: EcuOptions | None,
-            plot_worker: PlotWorker | None, fmu_path: Path) -> Callable[..., bool]:
-    """Side by side (:func:`_run_concurrently`, drawn by ``plot_worker`` if one was started ahead) when
-    ``concurrent`` and :func:`_can_run_concurrently`, else one after the other (:func:`_run_in_turn`)."""
+            fmu_path: Path) -> Callable[..., None]:
+    """Side by side (:func:`_run_concurrently`) when ``concurrent`` and :func:`_can_run_concurrently`,
+    else one after the other (:func:`_run_in_turn`)."""
     if concurrent and _can_run_concurrently(strategies, ecu):
-        return functools.partial(_run_concurrently, plot_worker=plot_worker, fmu_path=fmu_path)
+        return functools.partial(_run_concurrently, fmu_path=fmu_path)
     return _run_in_turn
 
 
@@ -177,35 +175,38 @@ def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> 
 
 
 def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
-                      records: list[RunRecord], out_dir: Path | None, plot_worker: PlotWorker | None,
-                      fmu_path: Path) -> bool:
-    """The runs in forked workers (:func:`cosim.loop.concurrent.run_concurrently`), ``metrics.json`` after
-    each; whether ``speed_profiles.png`` has been drawn (by the plot worker, beside the last timeline).
-    A plant in this process is prepared here once (:func:`~cosim.world.plant_fmu.fmu_shared`: hashed,
-    parsed, extracted), not by each run: every worker inherits it, then loads the library once."""
+                      records: list[RunRecord], out_dir: Path | None, fmu_path: Path) -> None:
+    """The runs in worker processes (:func:`cosim.loop.concurrent.run_concurrently`); here, each run's
+    timeline and ``metrics.json`` as its record comes in, and matplotlib imported while the first runs go.
+    A plant in this process is prepared once (:func:`~cosim.world.plant_fmu.fmu_shared`: hashed, parsed,
+    extracted), and every worker inherits it."""
 
-    def on_record(done: list[RunRecord]) -> None:
+    def on_record(record: RunRecord, done: list[RunRecord]) -> None:
         if out_dir is not None:
+            timeline(out_dir / record.strategy / "timeline.png", record)
             write_metrics(out_dir / "metrics.json", done, provenance(scenario, done), "running")
 
-    plots = _series_plots(out_dir, scenario, strategies) if out_dir is not None else None
+    job = functools.partial(_frames_on_disk, run) if out_dir is not None else functools.partial(run, plot=False)
     shared = fmu_shared(fmu_path) if isolation_of(scenario.plant) == "inprocess" else contextlib.nullcontext()
     with shared:
-        return run_concurrently(strategies, lambda strategy: run(strategy, plot=False), records, plots, on_record,
-                                jobs=cores(), keep_frames=out_dir is None, plot_worker=plot_worker)
+        run_concurrently(strategies, job, records, on_record, jobs=cores(),
+                         meanwhile=preload_matplotlib if out_dir is not None else None)
 
 
-def _series_plots(out_dir: Path, scenario: Scenario, strategies: Sequence[str]) -> SeriesPlots:
-    """Every run's timeline and speed against position (claim 4's split marked for the paper's runs)."""
-    obj = scenario.object
-    paper = set(paper_claims.REQUIRED) <= set(strategies)
-    return SeriesPlots(out_dir, obj.position_m if obj.enabled else None,
-                       paper_claims.SPLIT_POSITION_M if paper else None)
+def _frames_on_disk(run: Callable[..., RunRecord], strategy: str) -> RunRecord:
+    """A run in a worker, its record sent back without the frame log: the frames are on disk (``can.blf``),
+    and pickling 26,000 frames per run would cost more CPU than a plot."""
+    record = run(strategy, plot=False)
+    record.frames = []
+    return record
 
 
 def _speed_profiles(out_dir: Path, scenario: Scenario, records: Sequence[RunRecord]) -> None:
     """``speed_profiles.png``: every run's speed against position (claim 4's split marked for the paper's runs)."""
-    _series_plots(out_dir, scenario, [r.strategy for r in records]).finale(records)
+    obj = scenario.object
+    paper = set(paper_claims.REQUIRED) <= {r.strategy for r in records}
+    speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None,
+                   split_m=paper_claims.SPLIT_POSITION_M if paper else None)
 
 
 def _preflight(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
@@ -260,27 +261,25 @@ def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | 
 
 
 def _write_summary(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, status: str,
-                   error: str | None, profiles_drawn: bool = False) -> None:
+                   error: str | None) -> None:
     """``metrics.json`` first (the one file every way out must leave), then the config, plots and report."""
     prov = provenance(scenario, records)
     write_metrics(out_dir / "metrics.json", records, prov, status, error)
     if not records:
         return
     try:
-        _write_report(out_dir, scenario, records, judge, prov, profiles_drawn)
+        _write_report(out_dir, scenario, records, judge, prov)
     except Exception as exc:  # noqa: BLE001 - on the way out of a failed run, never mask its error
         if status == "complete":
             raise
         log.warning("could not write the summary files after the run stopped (%s): %s", status, exc)
 
 
-def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, prov: dict,
-                  profiles_drawn: bool = False) -> None:
-    """``config.resolved.toml``, ``speed_profiles.png`` (unless drawn already) and ``report.md``."""
+def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, prov: dict) -> None:
+    """``config.resolved.toml``, ``speed_profiles.png`` and ``report.md``."""
     resolved = out_dir / "config.resolved.toml"
     write_resolved_config(resolved, scenario, ecu_config(scenario, records[0].strategy), prov)
-    if not profiles_drawn:
-        _speed_profiles(out_dir, scenario, records)
+    _speed_profiles(out_dir, scenario, records)
     plots = [("speed against position", "speed_profiles.png")]
     plots += [(f"{r.strategy}: timeline", f"{r.strategy}/timeline.png") for r in records]
     try:

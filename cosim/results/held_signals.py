@@ -24,13 +24,14 @@ import threading
 from contextlib import contextmanager
 from typing import Iterator
 
-_HELD = frozenset({signal.SIGINT, signal.SIGTERM})
+#: the signals held back here (and by :mod:`cosim.loop.concurrent`'s workers outside a run)
+SIGNALS = frozenset({signal.SIGINT, signal.SIGTERM})
 
 
 @contextmanager
 def signals_held() -> Iterator[None]:
     """SIGINT and SIGTERM held back within the block (delivered at its end)."""
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
     try:
         yield
     finally:
@@ -55,7 +56,7 @@ class SafePoints:
 
     def __enter__(self) -> SafePoints:
         if threading.current_thread() is threading.main_thread():
-            for sig in _HELD:
+            for sig in SIGNALS:
                 if callable(signal.getsignal(sig)):
                     self._previous[sig] = signal.signal(sig, self._note)
         return self

@@ -14,7 +14,7 @@ Legends sit outside the axes, so they cover no data.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
 
@@ -45,7 +45,7 @@ def mode_levels() -> dict[str, int]:
 
 
 def preload_matplotlib() -> None:
-    """Import matplotlib now (0.3 s), e.g. before forking workers that plot (:mod:`cosim.loop.concurrent`)."""
+    """Import matplotlib now (0.4 s), e.g. while runs go in worker processes (:mod:`cosim.loop.concurrent`)."""
     _pyplot()
 
 
@@ -184,28 +184,6 @@ def active_end_s(record: RunRecord) -> float:
 def timeline(path: Path, record: RunRecord, levels: dict[str, int] | None = None) -> None:
     """``timeline.png`` of one run (:func:`timeline_figure`)."""
     _save(timeline_figure(record, levels), path)
-
-
-@dataclass(frozen=True)
-class SeriesPlots:
-    """The figures of a series of runs under ``out_dir``: each run's ``<strategy>/timeline.png`` and
-    ``speed_profiles.png`` (a :class:`~cosim.results.plot_worker.Drawing`; plain data, so it can be
-    sent to a plot worker started before it existed)."""
-
-    out_dir: Path
-    object_position_m: float | None
-    split_m: float | None = None
-    #: :func:`mode_levels`, read where the series starts (the plot worker then needs no can_dbc)
-    levels: tuple[tuple[str, int], ...] = field(default_factory=lambda: tuple(mode_levels().items()))
-
-    def preload(self) -> None:
-        preload_matplotlib()
-
-    def timeline(self, record: RunRecord) -> None:
-        timeline(self.out_dir / record.strategy / "timeline.png", record, dict(self.levels))
-
-    def finale(self, records: Sequence[RunRecord]) -> None:
-        speed_profiles(self.out_dir / "speed_profiles.png", records, self.object_position_m, split_m=self.split_m)
 
 
 def timeline_figure(record: RunRecord, levels: dict[str, int] | None = None):

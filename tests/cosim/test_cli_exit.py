@@ -1,5 +1,4 @@
-"""The ``crd`` command ends without the interpreter's teardown (:func:`cosim.cli.main._exit_without_teardown`):
-its exit code, its output and the exit handlers are as at any exit."""
+"""The ``crd`` command's exit: its exit code, its output (an error as one line) and the exit handlers run."""
 
 from __future__ import annotations
 

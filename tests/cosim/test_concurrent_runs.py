@@ -1,37 +1,44 @@
-"""Strategy runs side by side in forked workers (:mod:`cosim.loop.concurrent`, issue 10's ``crd paper`` time).
+"""Strategy runs side by side in worker processes (:mod:`cosim.loop.concurrent`, ``crd paper``).
 
 * The same files byte for byte (time series, events, CAN log, timelines, speed
   profiles, resolved configuration) and the same records, in order, as one run
   after the other; on a short scenario with radar noise, so that each run's
   result depends on its seed.
-* A failing run still reports: the others' records are kept and its exception
-  is raised; a worker that dies without a word is an error naming its strategy.
-* A signal ends every running run with its results so far (exit 130 / 143).
+* Records come in the order of the strategies, whichever run ends first; the caller's own
+  work (``meanwhile``) runs once, in its process, while the first runs go.
+* A failing run still reports: the others' records are kept and its error,
+  naming the run, is raised; a worker that dies without a word is an error
+  naming its strategy and exit status.
+* A signal ends every running run with its results so far (exit 130 / 143), and
+  no new run starts.
+
+Runs that must overlap or end in a given order wait on events shared through the
+fork (a worker inherits its job), never on sleeps.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import json
+import multiprocessing
 import os
 import signal
 import threading
-import time
 from pathlib import Path
 
 import pytest
 
 from can_dbc import generate_key, write_key_file
 from cosim.link.ecu_link import EcuOptions
-from cosim.loop.concurrent import Plots, cores, run_concurrently
+from cosim.loop.concurrent import RunFailed, cores, run_concurrently
 from cosim.loop.experiment import run_strategies
-from cosim.results.plot_worker import PlotWorker
 from cosim.results.run_record import LoggedFrame, RunMetrics, RunRecord
 from tests.os_processes import crd_signalled_when, last_time_s
 from cosim.scenarios.loader import load_scenario
 
 SHORT = Path(__file__).parent / "sweep_data" / "short_cyclist.toml"
 STRATEGIES = ["none", "conservative", "tightening"]
+WAIT_S = 60.0  # for an event another worker sets: fails loudly, never reached on a working tree
 
 
 def _files(out: Path) -> dict[str, bytes]:
@@ -46,26 +53,23 @@ def test_concurrent_runs_write_the_same_files_and_records(plant_fmu3, tmp_path):
     ecu = EcuOptions(key_file=str(write_key_file(tmp_path / "run.key", generate_key())))  # same SecOC tags
     one_by_one = run_strategies(sc, STRATEGIES, tmp_path / "seq", ecu=ecu)
     side_by_side = run_strategies(sc, STRATEGIES, tmp_path / "con", ecu=ecu, concurrent=True)
-    ahead = PlotWorker.start()  # as crd paper's: forked before the series, its drawing pickled to it later
-    try:
-        drawn_ahead = run_strategies(sc, STRATEGIES, tmp_path / "ahead", ecu=ecu, concurrent=True, plot_worker=ahead)
-    finally:
-        ahead.stop()
-    for series in (side_by_side, drawn_ahead):
-        assert [r.strategy for r in series] == STRATEGIES
-        for a, b in zip(one_by_one, series):
-            assert dataclasses.replace(a.metrics, wall_time_s=0.0) == dataclasses.replace(b.metrics, wall_time_s=0.0)
-            assert (a.rows, a.events, a.error) == (b.rows, b.events, b.error) and len(a.rows) > 600
-            assert a.frames and b.frames == []  # on disk in can.blf; not sent back
-    seq = _files(tmp_path / "seq")
-    for con in (_files(tmp_path / "con"), _files(tmp_path / "ahead")):
-        assert sorted(seq) == sorted(con) and "tightening/timeline.png" in con and "speed_profiles.png" in con
-        assert [name for name in seq if seq[name] != con[name]] == []
-    metrics = [json.loads((tmp_path / d / "metrics.json").read_text()) for d in ("seq", "con", "ahead")]
+    assert [r.strategy for r in side_by_side] == STRATEGIES
+    for a, b in zip(one_by_one, side_by_side):
+        assert dataclasses.replace(a.metrics, wall_time_s=0.0) == dataclasses.replace(b.metrics, wall_time_s=0.0)
+        assert (a.rows, a.events, a.error) == (b.rows, b.events, b.error) and len(a.rows) > 600
+        assert a.frames and b.frames == []  # on disk in can.blf; not sent back
+    seq, con = _files(tmp_path / "seq"), _files(tmp_path / "con")
+    assert sorted(seq) == sorted(con) and "tightening/timeline.png" in con and "speed_profiles.png" in con
+    assert [name for name in seq if seq[name] != con[name]] == []
+    metrics = [json.loads((tmp_path / d / "metrics.json").read_text()) for d in ("seq", "con")]
     for m in metrics:
         for run in m["runs"]:
             run.pop("wall_time_s")
-    assert metrics[0] == metrics[1] == metrics[2] and metrics[1]["status"] == "complete"
+    assert metrics[0] == metrics[1] and metrics[1]["status"] == "complete"
+
+
+def _record(strategy: str) -> RunRecord:
+    return RunRecord(strategy, RunMetrics(strategy), rows=[(0.0,)], frames=[LoggedFrame(0.0, 1, b"\x01")])
 
 
 def _job(strategy: str) -> RunRecord:
@@ -73,51 +77,101 @@ def _job(strategy: str) -> RunRecord:
         raise ValueError("plant.fmu: no such FMU")
     if strategy == "crash":
         os._exit(3)  # as a segfault in the FMU's C code would: no word to the parent
-    return RunRecord(strategy, RunMetrics(strategy), rows=[(0.0,)], frames=[LoggedFrame(0.0, 1, b"\x01")])
+    return _record(strategy)
 
 
-def _run(strategies: list[str], tmp_path: Path, records: list[RunRecord], keep_frames: bool = False) -> list:
-    def draw(record: RunRecord) -> None:  # in the parent, or in the plot worker for the last ones
-        (tmp_path / f"{record.strategy}.drawn").write_text("")
-
-    def finale(every: list[RunRecord]) -> None:  # in the plot worker, beside the last timeline
-        with open(tmp_path / "finale.drawn", "a") as handle:
-            handle.write(" ".join(r.strategy for r in every) + "\n")
-
+def _series(strategies: list[str], records: list[RunRecord], job=_job, seen_b=None) -> list[list[str]]:
+    """Run ``strategies`` two at a time into ``records``; the strategies of the records at each ``on_record``
+    (``seen_b``: an event set once they include b)."""
     seen: list[list[str]] = []
-    preload = lambda: time.sleep(0.5)  # noqa: E731 - as importing matplotlib: every run is in before a draw
-    drawn = run_concurrently(strategies, _job, records, Plots(preload, draw, finale),
-                             lambda done: seen.append([r.strategy for r in done]), jobs=2, keep_frames=keep_frames)
-    assert drawn == (tmp_path / "finale.drawn").exists()  # else the caller draws it
+
+    def on_record(record: RunRecord, done: list[RunRecord]) -> None:
+        assert record in done
+        seen.append([r.strategy for r in done])
+        if seen_b is not None and "b" in seen[-1]:
+            seen_b.set()
+
+    run_concurrently(strategies, job, records, on_record, jobs=2)
     return seen
 
 
-def test_records_come_in_order_and_every_timeline_is_drawn(tmp_path):
+def test_records_come_in_order_whichever_run_ends_first():
+    b_in = multiprocessing.get_context("fork").Event()  # set here, seen by the workers (inherited)
+
+    def job(strategy: str) -> RunRecord:
+        if strategy == "a":  # a and b go side by side; a ends once b's record is in
+            assert b_in.wait(WAIT_S), "b's record did not come in while a ran"
+        return _record(strategy)
+
     records: list[RunRecord] = []
-    seen = _run(["a", "b", "c", "d"], tmp_path, records)
-    assert [r.strategy for r in records] == ["a", "b", "c", "d"] and seen[-1] == ["a", "b", "c", "d"]
-    assert all(seen[i] == sorted(seen[i], key="abcd".index) for i in range(len(seen)))  # metrics.json in order
-    assert sorted(p.stem for p in tmp_path.glob("*.drawn") if p.stem != "finale") == ["a", "b", "c", "d"]
-    if (tmp_path / "finale.drawn").exists():  # drawn by the plot worker when timelines were left to draw
-        assert (tmp_path / "finale.drawn").read_text() == "a b c d\n"
-    assert records[0].frames == [] and records[0].rows == [(0.0,)]
-    kept: list[RunRecord] = []
-    _run(["a"], tmp_path, kept, keep_frames=True)
-    assert kept[0].frames == [LoggedFrame(0.0, 1, b"\x01")]
+    seen = _series(["a", "b", "c", "d"], records, job, seen_b=b_in)
+    assert [r.strategy for r in records] == ["a", "b", "c", "d"]
+    assert seen[0] == ["b"] and seen[1] == ["a", "b"] and seen[-1] == ["a", "b", "c", "d"]
+    assert records[0].frames == [LoggedFrame(0.0, 1, b"\x01")] and records[0].rows == [(0.0,)]  # sent back whole
 
 
-def test_a_failing_run_still_reports_and_the_others_are_kept(tmp_path):
+def test_meanwhile_runs_here_once_while_the_first_runs_go():
+    done = multiprocessing.get_context("fork").Event()
+    calls: list[int] = []
+
+    def meanwhile() -> None:  # crd paper: import matplotlib
+        calls.append(os.getpid())
+        done.set()
+
+    def job(strategy: str) -> RunRecord:
+        assert done.wait(WAIT_S), "meanwhile() did not run while the runs went"
+        return _record(strategy)
+
     records: list[RunRecord] = []
-    with pytest.raises(ValueError, match="plant.fmu: no such FMU"):
-        _run(["a", "bad", "b"], tmp_path, records)
+    run_concurrently(["a", "b", "c"], job, records, lambda record, done: None, jobs=2, meanwhile=meanwhile)
+    assert calls == [os.getpid()] and [r.strategy for r in records] == ["a", "b", "c"]
+
+
+def test_a_failing_run_still_reports_and_the_others_are_kept():
+    records: list[RunRecord] = []
+    with pytest.raises(RunFailed, match=r"^bad: plant.fmu: no such FMU$") as failed:
+        _series(["a", "bad", "b"], records)
+    assert isinstance(failed.value.__cause__, ValueError) and failed.value.strategy == "bad"
     assert [r.strategy for r in records] == ["a", "b"]
 
 
-def test_a_worker_that_dies_is_an_error_naming_its_strategy(tmp_path):
+def test_a_record_that_cannot_be_taken_fails_its_run_and_the_others_go_on():
+    def on_record(record: RunRecord, done: list[RunRecord]) -> None:  # crd paper: its timeline, metrics.json
+        if record.strategy == "b":
+            raise OSError("No space left on device")
+
     records: list[RunRecord] = []
-    with pytest.raises(RuntimeError, match=r"crash: the worker process ended \(exit status 3\) without reporting"):
-        _run(["a", "crash", "b"], tmp_path, records)
+    with pytest.raises(RunFailed, match=r"^b: No space left on device$"):
+        run_concurrently(["a", "b", "c"], _job, records, on_record, jobs=2)
+    assert [r.strategy for r in records] == ["a", "b", "c"]
+
+
+def test_a_worker_that_dies_is_an_error_naming_its_strategy():
+    records: list[RunRecord] = []
+    with pytest.raises(RunFailed, match=r"^crash: the worker process ended \(exit status 3\) without reporting$"):
+        _series(["a", "crash", "b"], records)
     assert [r.strategy for r in records] == ["a", "b"]
+
+
+def test_a_signal_ends_the_running_runs_and_no_new_run_starts(tmp_path):
+    """In process: run a signals this process (as a Ctrl-C would), which passes it on to a; b never starts."""
+
+    def job(strategy: str) -> RunRecord:
+        (tmp_path / strategy).write_text("started")
+        try:
+            os.kill(os.getppid(), signal.SIGINT)
+            threading.Event().wait(WAIT_S)  # until the signal passed on comes
+        except KeyboardInterrupt:
+            record = _record(strategy)
+            record.interrupted = "SIGINT"
+            return record
+        raise AssertionError("the signal was not passed on within WAIT_S")
+
+    records: list[RunRecord] = []
+    run_concurrently(["a", "b"], job, records, lambda record, done: None, jobs=1)
+    assert [(r.strategy, r.interrupted) for r in records] == [("a", "SIGINT")]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a"]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
 
 
 NO_OBJECT = """
@@ -132,6 +186,8 @@ enabled = false
 @pytest.mark.wallclock
 @pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_a_signal_ends_every_running_run_with_its_results(plant_fmu3, tmp_path, sig, code):
+    """``crd paper`` as a child, signalled once every run has streamed 3 s (a condition on its files).
+    Wall-clock: the signal lands wherever the runs are by then, so the check is a range (>= 3 s)."""
     scenario = tmp_path / "open_road.toml"
     scenario.write_text(NO_OBJECT)
     out = tmp_path / "out"
@@ -165,25 +221,3 @@ def test_a_process_with_other_threads_runs_one_after_the_other(plant_fmu3, tmp_p
         other.join()
     assert [r.strategy for r in records] == ["none", "tightening"]
     assert all(r.frames for r in records)  # kept: run here (a worker sends its record without them)
-
-
-def test_one_plot_worker_draws_the_finale_once(tmp_path):
-    """Two timelines left when the last run comes in: the plot worker is started once, not again for the last."""
-    delay_s = {"a": 0.0, "b": 0.05, "c": 0.1}
-
-    def job(strategy: str) -> RunRecord:
-        time.sleep(delay_s[strategy])
-        return RunRecord(strategy, RunMetrics(strategy))
-
-    def draw(record: RunRecord) -> None:  # slower than the runs: b and c are both in while a is drawn
-        time.sleep(0.3)
-        (tmp_path / f"{record.strategy}.drawn").write_text("")
-
-    def finale(every: list[RunRecord]) -> None:
-        with open(tmp_path / "finale.drawn", "a") as handle:
-            handle.write(" ".join(r.strategy for r in every) + "\n")
-
-    records: list[RunRecord] = []
-    assert run_concurrently(["a", "b", "c"], job, records, Plots(lambda: None, draw, finale), lambda done: None, jobs=2)
-    assert (tmp_path / "finale.drawn").read_text() == "a b c\n"
-    assert sorted(p.stem for p in tmp_path.glob("?.drawn")) == ["a", "b", "c"]

@@ -154,8 +154,9 @@ def test_a_second_ecu_on_the_bus_is_detected_and_not_obeyed(plant_fmu3, sock_dir
 
 @pytest.mark.wallclock
 def test_real_time_matches_lock_step_within_tolerance(plant_fmu3):
-    """Tolerances: the real-time loop adds up to one cycle of latency (the ECU answers in its own
-    next cycle), so final gap within 0.3 m and top speed within 0.2 m/s of lock-step (observed:
+    """Wall-clock by nature: the ECU paces itself to the wall clock. Tolerances: the real-time loop
+    adds up to one cycle of latency (the ECU answers in its own next cycle), so final gap within 0.3 m
+    and top speed within 0.2 m/s of lock-step (observed:
     ~0.01 m and ~0.04 m/s), contingency invocations within one; the ECU must visibly act (top
     speed below the 'none' run's by 0.5 m/s)."""
     sc = scenario_from_dict(SHORT)

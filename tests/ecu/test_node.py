@@ -1,6 +1,5 @@
 """EcuNode on a virtual bus: stats, EcuStatus cadence, sim-time pacing, determinism, CLI."""
 
-import os
 import signal
 import subprocess
 import sys
@@ -11,7 +10,16 @@ import uuid
 import can
 
 from can_dbc import Receiver, encode
+from can_transport import UnixSocketBus
 from ecu import EcuConfig, EcuNode
+
+
+def _wait_until(condition, what: str, timeout_s: float = 5.0) -> None:
+    """Wait until ``condition()`` holds (checked every millisecond); fail naming ``what`` after ``timeout_s``."""
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        assert time.monotonic() < deadline, f"expected {what} within {timeout_s} s"
+        time.sleep(0.001)
 
 
 def _bus(channel):
@@ -75,20 +83,36 @@ def test_sim_time_runs_one_cycle_per_sim_clock_frame():
             while msg is not None and msg.arbitration_id != 0x090:
                 msg = tester.recv(timeout=2.0)
             modes.append(rx.check(msg).signals["Mode"])
-        time.sleep(0.05)  # nothing more without a clock frame
+        good = node.stats["good"]
+        for msg in _inputs(20):  # frames without a clock frame: taken in, and no cycle
+            tester.send(msg)
+        _wait_until(lambda: node.stats["good"] == good + len(_inputs(20)), "the node took in the last inputs")
         stop.set()
         thread.join(5.0)
+        assert not thread.is_alive()
+        late = [m.arbitration_id for m in iter(lambda: tester.recv(timeout=0.0), None)]
+    assert 0x090 not in late
     assert result["r"].cycles == 20 and node.cycles == 20
     assert modes[:9] == [3] * 9 and modes[9:] == [0] * 11  # FAULT for the recovery cycles, then STANDBY
 
 
-def test_cli_runs_and_exits_cleanly_on_sigterm():
-    env = {k: v for k, v in os.environ.items()}
-    proc = subprocess.Popen([sys.executable, "-m", "cosim.cli.main", "ecu", "--interface", "virtual",
-                             "--channel", "cli-test", "--strategy", "none"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
-    time.sleep(1.5)
-    proc.send_signal(signal.SIGTERM)
-    out, err = proc.communicate(timeout=10)
+def test_cli_runs_and_exits_cleanly_on_sigterm(tmp_path):
+    """``crd ecu`` on a shared bus: SIGTERM once it runs (its first SafetyOverride frame is the ready sign)."""
+    channel = str(tmp_path / "can.sock")
+    with UnixSocketBus(channel) as tester:  # the hub lives here, so the ECU joins it
+        proc = subprocess.Popen([sys.executable, "-m", "cosim.cli.main", "ecu", "--interface", "crd_unix",
+                                 "--channel", channel, "--strategy", "none"],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        try:
+            first = tester.recv(timeout=60.0)  # the ECU sends every 10 ms once it runs
+            while first is not None and first.arbitration_id != 0x090:
+                first = tester.recv(timeout=60.0)
+            assert first is not None, f"crd ecu sent no SafetyOverride within 60 s: {proc.poll()}"
+            proc.send_signal(signal.SIGTERM)
+            out, err = proc.communicate(timeout=10)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
     assert proc.returncode == 0, err
     assert out.startswith("ecu none: final mode FAULT; real-time:") and "cycles" in out

@@ -42,6 +42,8 @@ def _comparable(record) -> dict:
 
 @pytest.mark.wallclock
 def test_sigstop_for_2_s_is_waited_out_and_the_run_is_unchanged(plant_fmu3):
+    """Wall-clock by nature: the ECU is stopped for 2 s of wall time (SIGSTOP, a timer sends SIGCONT), longer
+    than the 1 s reply timeout, and the run must wait it out."""
     sc = scenario_from_dict(SHORT)
     reference = run_scenario(sc, plant_fmu3, "tightening")
     loop = ClosedLoop(sc, plant_fmu3, "tightening", ecu=EcuOptions(mode="process"))
@@ -72,6 +74,7 @@ def test_sigstop_for_2_s_is_waited_out_and_the_run_is_unchanged(plant_fmu3):
 
 @pytest.mark.wallclock
 def test_a_stall_past_the_limit_stops_the_run_loudly(plant_fmu3):
+    """Wall-clock by nature: the stall limit (1 s) is wall time, and the run must stop once it has passed."""
     sc = scenario_from_dict(SHORT)
     loop = ClosedLoop(sc, plant_fmu3, "tightening", ecu=EcuOptions(mode="process", stall_timeout_s=1.0))
     pid = loop.link.pid
@@ -150,6 +153,8 @@ def _kill_the_ecu_at(out_dir, t_s: float) -> threading.Thread:
 
 @pytest.mark.wallclock
 def test_a_lost_ecu_exits_4_with_a_quiet_event_log(plant_fmu3, tmp_path, capsys, caplog):
+    """Wall-clock: the ECU is killed once 2 s are on disk (a condition), and the loss is seen after the reply
+    timeout (wall time); where the run stands by then is a race, so the checks are ranges."""
     out = tmp_path / "out"
     killer = _kill_the_ecu_at(out, 2.0)
     with caplog.at_level(logging.WARNING, logger="cosim.link"):
@@ -171,6 +176,7 @@ def test_a_lost_ecu_exits_4_with_a_quiet_event_log(plant_fmu3, tmp_path, capsys,
 
 @pytest.mark.wallclock
 def test_an_expected_lost_ecu_exits_0(plant_fmu3, tmp_path, capsys):
+    """Wall-clock, as the test above: the loss is seen after the reply timeout (wall time)."""
     out = tmp_path / "out"
     killer = _kill_the_ecu_at(out, 2.0)
     code = main(["run", _scenario_file(tmp_path, 'expect_events = ["ecu_lost"]'), "--out", str(out),

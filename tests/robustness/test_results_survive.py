@@ -32,6 +32,7 @@ strategy = "tightening"
 @pytest.mark.wallclock
 @pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_a_signal_mid_run_keeps_the_results_so_far(plant_fmu3, tmp_path, sig, code):
+    """Wall-clock: the signal lands wherever the run is once 3 s are on disk, so the check is a range."""
     scenario = tmp_path / "long.toml"
     scenario.write_text(LONG)
     out = tmp_path / "out"

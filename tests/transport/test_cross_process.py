@@ -4,6 +4,7 @@ Every wait is bounded; a hang would fail the test by its timeout, not stall CI.
 """
 
 import os
+import select
 import signal
 import time
 
@@ -68,8 +69,10 @@ def test_standalone_hub_death_breaks_every_participant(channel: str, processes) 
     with UnixSocketBus(channel, hub="connect") as a, UnixSocketBus(channel, hub="connect") as b:
         assert not a.owns_hub
         wait_for_peers(a, 1)
+        wait_for_peers(b, 1)  # b has read the hub's announcements: what comes next on its socket is frame 7
         a.send(_numbered(7))
-        time.sleep(0.1)
+        readable, _, _ = select.select([b._sock], [], [], FAULT_TIMEOUT_S)  # the hub has delivered 7, unread
+        assert readable, f"the hub did not deliver frame 7 within {FAULT_TIMEOUT_S} s"
         os.kill(hub.pid, signal.SIGKILL)
         hub.wait(timeout=FAULT_TIMEOUT_S)
         assert int.from_bytes(b.recv(timeout=FAULT_TIMEOUT_S).data, "little") == 7  # delivered before the fault

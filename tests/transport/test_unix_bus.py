@@ -55,6 +55,7 @@ def test_receive_own_messages(channel: str) -> None:
 
 @pytest.mark.wallclock
 def test_recv_timeout_is_honoured(channel: str) -> None:
+    """Wall-clock by nature: the timeout is wall time, and ``recv`` must neither return early nor hang."""
     with UnixSocketBus(channel) as bus:
         start = time.monotonic()
         assert bus.recv(timeout=0.1) is None
