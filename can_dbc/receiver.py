@@ -120,6 +120,20 @@ class _Rx:
 _new_frame = tuple.__new__
 
 
+def check_alone(msg: can.Message) -> Frame:
+    """``msg`` checked on its own merits: known ID, DLC, CRC, counter range, decode, range, enumerations.
+
+    No receive state is read or changed (no counter sequence, rate, score or SecOC): the
+    frame is judged as a receiver that has seen nothing before would judge it. For a
+    caller that must weigh frames whose *sequence* is in doubt (two senders of one message,
+    :mod:`cosim.world.gateway`). Raises a :class:`FrameError`; counts nothing.
+    """
+    layout = None if msg.is_extended_id else LAYOUTS_BY_ID.get(msg.arbitration_id)
+    if layout is None:
+        raise UnknownFrame(f"expected an ID of the contract, got 0x{msg.arbitration_id:X}")
+    return Receiver._check_known(_Rx(layout, None, False), msg)
+
+
 class Receiver:
     """Checks frames against the contract and keeps E2E state per message.
 
@@ -244,7 +258,8 @@ class Receiver:
             return left == 0
         return True
 
-    def _check_known(self, rx: _Rx, msg: can.Message, t_s: float | None = None) -> Frame:
+    @staticmethod
+    def _check_known(rx: _Rx, msg: can.Message, t_s: float | None = None) -> Frame:
         data, layout, name = msg.data, rx.layout, rx.name
         if msg.dlc != FRAME_LENGTH or len(data) != FRAME_LENGTH or msg.is_fd:
             raise LengthError(f"{name}: expected DLC {FRAME_LENGTH}, got {msg.dlc} ({len(data)} data bytes)")
@@ -259,7 +274,7 @@ class Receiver:
         previous, rx.counter = rx.counter, counter  # follow the new counter, but only after SYNC_FRAMES good ones
         delta = 1 if previous is None else (counter - previous) % COUNTER_MODULUS
         # in sequence and in sync (the common case) needs no call to the sync state machine
-        synced = True if delta == 1 and not rx.sync_left else self._sequence(rx, delta)
+        synced = True if delta == 1 and not rx.sync_left else Receiver._sequence(rx, delta)
         if delta > MAX_COUNTER_JUMP:
             raise CounterError(
                 f"{name}: expected counter {(previous + 1) % COUNTER_MODULUS}"
