@@ -22,17 +22,17 @@ from __future__ import annotations
 import csv
 import os
 from datetime import datetime
-from pathlib import Path
+from pathlib import Path, PurePath
 from typing import Iterable, Sequence
 
 import can
 from can.io.generic import FileIOMessageWriter
 
 from ..errors import ConfigError
-from .can_logs import open_python_can_writer, streamed, write_can_logs
+from .can_logs import BlfInBackground, open_python_can_writer, streamed, write_can_logs
 from .held_signals import signals_held
 from .run_record import TIMESERIES_COLUMNS, RunRecord
-from .writer import timeseries_cells
+from .writer import timeseries_lines
 
 
 def check_out_dir(out_dir: Path, subdirs: Iterable[str] = ()) -> None:
@@ -67,11 +67,16 @@ class RunStream:
         self._writers: list = []
         self._csv_file = open(run_dir / "timeseries.csv", "w", newline="")
         try:
-            self._csv = csv.writer(self._csv_file)
-            self._csv.writerow(TIMESERIES_COLUMNS)
+            csv.writer(self._csv_file).writerow(TIMESERIES_COLUMNS)
+            self._blf: list[BlfInBackground] = []  # BLF: written in bulk on a thread of its own
+            self._per_message = []  # the other formats: python-can's writers, one can.Message per frame
             for name in can_logs:
-                if streamed(name):
+                if PurePath(name).suffix.lower() == ".blf":
+                    self._blf.append(BlfInBackground(run_dir / name, self._start_s))
+                    self._writers.append(self._blf[-1])
+                elif streamed(name):
                     self._writers.append(open_python_can_writer(run_dir / name, start))
+                    self._per_message.append(self._writers[-1].on_message_received)
         except BaseException:
             self._stop_all()
             raise
@@ -87,22 +92,22 @@ class RunStream:
 
     def _write_new(self, record: RunRecord) -> None:
         rows = record.rows
-        writerow = self._csv.writerow
-        for row in rows[self._rows:]:
-            writerow(timeseries_cells(row))
+        self._csv_file.write(timeseries_lines(rows[self._rows:]))
         self._rows = len(rows)
         frames, start_s = record.frames, self._start_s
-        logs = [w.on_message_received for w in self._writers]
-        for f in frames[self._frames:]:
-            msg = can.Message(timestamp=start_s + f.t_s, arbitration_id=f.arbitration_id, data=f.data,
-                              is_extended_id=False, channel=0)
-            for log in logs:
-                log(msg)
+        new = frames[self._frames:]
         self._frames = len(frames)
+        for blf in self._blf:  # the batch, then the end of its container (a second's frames), in the thread
+            blf.write(new)
+            blf.end_container()
+        if self._per_message:  # one can.Message per frame, shared by every writer
+            for f in new:
+                msg = can.Message(timestamp=start_s + f.t_s, arbitration_id=f.arbitration_id, data=f.data,
+                                  is_extended_id=False, channel=0)
+                for log in self._per_message:
+                    log(msg)
         self._csv_file.flush()
         for writer in self._writers:
-            if isinstance(writer, can.BLFWriter):
-                writer._flush()  # noqa: SLF001 - python-can has no public call to close the current container
             if isinstance(writer, FileIOMessageWriter):
                 writer.file.flush()
 

@@ -13,14 +13,16 @@
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 import os
 import tempfile
 from dataclasses import fields
 from importlib.metadata import PackageNotFoundError, version
+from itertools import chain
 from pathlib import Path
-from typing import Iterable
+from typing import Iterable, Sequence
 
 from .events import event_counts
 from .run_record import TIMESERIES_COLUMNS, RunRecord
@@ -94,12 +96,34 @@ def timeseries_cells(row: tuple) -> list:
     return [f"{v:.6g}" if isinstance(v, float) and k else (f"{v:.3f}" if k == 0 else v) for k, v in enumerate(row)]
 
 
+#: one time-series row as :func:`timeseries_cells` and ``csv.writer`` (excel dialect) make it, when every
+#: cell but the mode is a float and the mode a plain word (a ``%`` per row: 2.6 instead of 8.7 µs, timeit)
+_ROW_LINE = "%.3f," + ",".join("%s" if name == "ecu_mode" else "%.6g" for name in TIMESERIES_COLUMNS[1:]) + "\r\n"
+_MODE_COLUMN = TIMESERIES_COLUMNS.index("ecu_mode")
+_QUOTED = frozenset(',"\r\n')
+
+
+def timeseries_lines(rows: Sequence[tuple]) -> str:
+    """``rows`` as CSV text, exactly as ``csv.writer(...).writerow(timeseries_cells(row))`` writes each."""
+    modes = {row[_MODE_COLUMN] for row in rows}
+    plain = (set(map(type, chain.from_iterable(rows))) <= {float, str}
+             and all(type(m) is str and _QUOTED.isdisjoint(m) for m in modes))
+    if plain:
+        try:
+            return "".join([_ROW_LINE % row for row in rows])
+        except TypeError:  # e.g. a word in a number's column: csv's way below
+            pass
+    text = io.StringIO(newline="")
+    writer = csv.writer(text)
+    for row in rows:
+        writer.writerow(timeseries_cells(row))
+    return text.getvalue()
+
+
 def write_timeseries(path: Path, record: RunRecord) -> None:
     with open(path, "w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(TIMESERIES_COLUMNS)
-        for row in record.rows:
-            writer.writerow(timeseries_cells(row))
+        csv.writer(handle).writerow(TIMESERIES_COLUMNS)
+        handle.write(timeseries_lines(record.rows))
 
 
 def write_events(path: Path, record: RunRecord) -> None:
