@@ -174,7 +174,8 @@ class BlfInBackground:
         if self._thread.is_alive():
             self._queue.put(None)
             self._thread.join()
-        self._writer.stop()
+        if not self._writer.file.closed:
+            self._writer.stop()
         self._raise()
 
     def _raise(self) -> None:
