@@ -74,7 +74,7 @@ def version_text(version: tuple[int, int, int]) -> str:
 
 
 def identity_signals(config: EcuConfig) -> dict[str, int]:
-    """The ``EcuIdentity`` signals of an ECU running ``config``."""
+    """The ``EcuIdentity`` signals of an ECU running ``config`` (but ``RunActive``: the node knows it)."""
     major, minor, patch = SOFTWARE_VERSION
     return {"ConfigStrategy": config.strategy_code, "SoftwareVersionMajor": major, "SoftwareVersionMinor": minor,
             "SoftwareVersionPatch": patch, "ConfigDigest": announced_digest(config)}

@@ -33,7 +33,7 @@ What a conflict applies (issue 25; the safety argument is ``docs/security-model.
 two senders of one CAN message cannot be told apart, so the gateway does not
 pick one. While the override's sender is in doubt -- a second sender detected,
 or within ``CONFLICT_HOLD_S`` of a sign of one: a repeated or jumping counter,
-a message resynchronising, or more than one override in a cycle -- it applies the *most restrictive* demand of every structurally valid
+or a message resynchronising -- it applies the *most restrictive* demand of every structurally valid
 ``SafetyOverride`` (CRC, DLC, ranges and enumerations hold; authenticated when
 keyed; the counter is not asked) received within the last
 ``override_timeout_s``: the lowest throttle limit (100 % for a frame with
@@ -65,7 +65,7 @@ from typing import NamedTuple
 
 import can
 
-from can_dbc import LAYOUTS, MODE_NAMES, AuthError, CounterError, FrameError, Receiver, SecOcVerifier, check_alone
+from can_dbc import AUTHENTICATORS, LAYOUTS, MODE_NAMES, AuthError, CounterError, FrameError, Receiver, SecOcVerifier, check_alone
 
 from .driver_models import Pedals
 from ..results.run_record import RunEvent
@@ -81,6 +81,7 @@ CONFLICT_HOLD_S = 1.0
 _MODE_NAMES = MODE_NAMES  # the DBC's VAL_ of SafetyOverride.Mode
 _CONTINGENCY = next(code for code, name in MODE_NAMES.items() if name == "CONTINGENCY")
 _STATUS_ID = LAYOUTS["EcuStatus"].frame_id
+_IDENTITY_IDS = (LAYOUTS["EcuIdentity"].frame_id, AUTHENTICATORS["EcuIdentity"])
 #: event kinds that make a run exit non-zero (cosim.cli)
 SECURITY_EVENTS = ("auth_failure", "ecu_security_fault")
 _new_tuple = tuple.__new__
@@ -134,6 +135,8 @@ class Gateway:
             self._in_cycle += 1
         elif msg.arbitration_id == _STATUS_ID:
             self._ecu_status(msg, t_s)
+            return False
+        elif msg.arbitration_id in _IDENTITY_IDS:  # the ECU's announcement: the link's (cosim.link.ecu_identity)
             return False
         try:
             frame = self._rx.check(msg)
@@ -218,7 +221,7 @@ class Gateway:
 
     def _update_conflict(self, t_s: float) -> None:
         self._window.append(self._in_cycle)
-        if self._counter_anomaly or self._in_cycle > 1:  # the sender is in doubt for a while, proven or not
+        if self._counter_anomaly:  # the sender is in doubt for a while, proven or not
             self._doubt_until_t_s = t_s + CONFLICT_HOLD_S
         self._in_cycle = 0
         seen = sum(self._window)
