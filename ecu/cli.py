@@ -138,12 +138,12 @@ def _print_summary(node: EcuNode, report, config: EcuConfig, run: int) -> bool:
     stats = node.stats
     auth_failures = stats.get("AuthError", 0) + stats.get("FreshnessError", 0)
     rejected = sum(v for k, v in stats.items() if k == "UnknownFrame" or k.endswith("Error"))
-    print(f"ecu {config.strategy}: final mode {node.mode}; {'run ' + str(run) if run else 'no run'}; "
+    print(f"ecu {config.strategy}: final mode {node.mode}; "
           f"{report.summary()}; frames good {stats.get('good', 0)}, rejected {rejected}, "
           f"gate interventions {stats['gate_interventions']}"
           + (f"; authenticated {stats.get('authenticated', 0)}, authentication failures {auth_failures}"
              if node.authenticated else "")
           + (f"; clock errors {stats['clock_errors']}" if stats.get("clock_errors") else "")
-          + (f"; foreign SafetyOverride frames {stats['foreign_overrides']}" if stats.get("foreign_overrides") else ""),
-          flush=True)
+          + (f"; foreign SafetyOverride frames {stats['foreign_overrides']}" if stats.get("foreign_overrides") else "")
+          + (f"; run {run}" if run else "; no run served"), flush=True)
     return bool(auth_failures or stats.get("foreign_overrides"))
