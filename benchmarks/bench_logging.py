@@ -37,7 +37,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_cosim import closed_loop_s  # noqa: E402 - the loop-only figure, as bench_cosim measures it
+from bench_cosim import _spread, closed_loop_s  # noqa: E402 - the loop-only figure, as bench_cosim measures it
 
 from cosim.cli.paper import PAPER_SCENARIO  # noqa: E402
 from cosim.loop.experiment import _run_one, resolve_fmu, run_strategies  # noqa: E402
@@ -45,10 +45,6 @@ from cosim.results.can_logs import check_can_logs  # noqa: E402
 from cosim.scenarios.loader import load_scenario  # noqa: E402
 
 STRATEGIES = ("none", "conservative", "tightening")
-
-
-def _spread(values: list[float], fmt: str) -> str:
-    return f"{fmt.format(statistics.median(values))} ({fmt.format(min(values))}..{fmt.format(max(values))})"
 
 
 def loop_only(sc, fmu: Path, strategy: str) -> tuple[float, float, float]:
