@@ -65,7 +65,8 @@ from typing import NamedTuple
 
 import can
 
-from can_dbc import AUTHENTICATORS, LAYOUTS, MODE_NAMES, AuthError, CounterError, FrameError, Receiver, SecOcVerifier, check_alone
+from can_dbc import (AUTHENTICATORS, LAYOUTS, MODE_NAMES, AuthError, CounterError, FrameError, Receiver, SecOcVerifier,
+                     check_alone)
 
 from .driver_models import Pedals
 from ..results.run_record import RunEvent
@@ -259,7 +260,9 @@ class Gateway:
     def _update_fallback(self, t_s: float, doubt: bool) -> None:
         """Driver only after ``override_timeout_s`` without a valid override (in doubt: from any sender)."""
         silent_s = t_s - (self._last_valid_t_s if doubt else self._last_fresh_t_s)
-        lost = silent_s > self._cfg.override_timeout_s + 1e-9 or (not doubt and not self._rx.is_valid("SafetyOverride"))
+        # in doubt the E2E score is not asked: two senders drive it up; only silence is
+        invalid = not doubt and not self._rx.is_valid("SafetyOverride")
+        lost = silent_s > self._cfg.override_timeout_s + 1e-9 or invalid
         if lost and not self.fallback:
             detail = (f"no valid SafetyOverride for {silent_s:.3f} s (timeout {self._cfg.override_timeout_s} s),"
                       f" E2E score {self._rx.score('SafetyOverride')}")
