@@ -72,8 +72,9 @@ def test_the_bulk_blf_writer_writes_python_cans_bytes(tmp_path, max_container_si
     assert len(list(can.BLFReader(str(tmp_path / "b.blf")))) == 3000
 
 
-def test_a_frame_that_is_not_8_bytes_takes_python_cans_own_path(tmp_path):
-    batch = _frames(20) + [LoggedFrame(0.5, 0x123, b"\x01\x02\x03")]
+def test_frames_that_are_not_8_bytes_are_padded_and_cut_as_python_can_does(tmp_path):
+    batch = _frames(20) + [LoggedFrame(0.5, 0x123, b"\x01\x02\x03"), LoggedFrame(0.5, 0x7FF, b""),
+                           LoggedFrame(0.51, 0x124, bytes(range(12)))]
     expected = _per_message(tmp_path / "a.blf", [batch])
     writer = FrameBlfWriter(str(tmp_path / "b.blf"))
     writer.write_frames(batch, START_S)
@@ -99,8 +100,10 @@ def test_the_writer_thread_writes_the_same_file_and_keeps_the_signals_for_the_ma
 
 def test_a_failure_in_the_writer_thread_is_raised_to_the_run(tmp_path):
     background = BlfInBackground(tmp_path / "b.blf", START_S)
-    background.write([LoggedFrame(0.0, -1, bytes(8))])  # no arbitration ID is negative: numpy refuses it
-    with pytest.raises(OverflowError):
+    background.write(_frames(10))
+    background._writer.file.close()  # the disk goes away under the thread
+    background.end_container()
+    with pytest.raises(ValueError, match="closed file"):
         background.stop()
 
 
