@@ -3,14 +3,14 @@
 Run: ``python benchmarks/bench_logging.py [--repeat N] [--strategy S ...] [--with-report]``.
 
 Alternating, ``--repeat`` rounds (default 7), in this one process, the paper scenario for
-each strategy:
+each strategy (which of the two goes first alternates from round to round):
 
 * **loop only**: :func:`bench_cosim.closed_loop_s`, the figure ``bench_cosim.py`` reports
   (no output directory: the record stays in memory);
 * **crd run**: what ``crd run paper_cyclist --strategy S --out DIR`` does for its run
   (:func:`cosim.loop.experiment._run_one`: the default logs ``can.blf`` and
   ``timeseries.csv`` streamed while the run goes, then ``events.json``), in the same
-  process, one right after the other.
+  process, right before or after it.
 
 Printed per strategy (medians over the rounds, min..max):
 
@@ -71,11 +71,15 @@ def whole_command(sc, strategy: str, out: Path) -> float:
     return record.metrics.sim_time_s / (time.perf_counter() - t0)
 
 
-def one_round(sc, fmu: Path, strategies, figures: dict, with_report: bool) -> None:
+def one_round(sc, fmu: Path, strategies, figures: dict, with_report: bool, loop_first: bool) -> None:
+    """Each strategy's loop alone and crd run, one right after the other (which goes first alternates)."""
     for strategy in strategies:
         with tempfile.TemporaryDirectory() as tmp:
-            loop_x, loop_total_x, loop_cpu_x = loop_only(sc, fmu, strategy)
+            if loop_first:
+                loop_x, loop_total_x, loop_cpu_x = loop_only(sc, fmu, strategy)
             run_x, run_total_x, run_cpu_x = crd_run(sc, fmu, strategy, Path(tmp) / "run")
+            if not loop_first:
+                loop_x, loop_total_x, loop_cpu_x = loop_only(sc, fmu, strategy)
             figures.setdefault((strategy, "loop"), []).append(loop_x)
             figures.setdefault((strategy, "run"), []).append(run_x)
             figures.setdefault((strategy, "ratio"), []).append(run_x / loop_x)
@@ -116,8 +120,8 @@ def main() -> None:
         loop_only(sc, fmu, "none")
         crd_run(sc, fmu, "none", Path(tmp) / "warm")
     figures: dict = {}
-    for _ in range(max(1, args.repeat)):
-        one_round(sc, fmu, strategies, figures, args.with_report)
+    for round_ in range(max(1, args.repeat)):
+        one_round(sc, fmu, strategies, figures, args.with_report, loop_first=round_ % 2 == 0)
     report(figures, strategies, max(1, args.repeat), args.with_report)
 
 

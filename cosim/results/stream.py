@@ -13,8 +13,14 @@
   leaves its files complete up to the last simulated second. :meth:`close`
   writes the rest and closes the files (the BLF header gets its statistics).
   The rows and frames stay in the :class:`RunRecord` too (the metrics, plots
-  and tests use them); the cost is the same formatting the end-of-run writer
-  did, spread over the run.
+  and tests use them).
+
+What it costs (issue 25; ``benchmarks/bench_logging.py``): the BLF gets each
+batch of frames as one array of BLF objects, no ``can.Message`` per frame, and
+compresses its containers at zlib level 1
+(:class:`~cosim.results.can_logs.FrameBlfWriter`); the time series is
+formatted with one ``%`` per row (:func:`~cosim.results.writer.timeseries_lines`).
+Other log formats take python-can's writers frame by frame, as before.
 """
 
 from __future__ import annotations
@@ -22,14 +28,14 @@ from __future__ import annotations
 import csv
 import os
 from datetime import datetime
-from pathlib import Path, PurePath
+from pathlib import Path
 from typing import Iterable, Sequence
 
 import can
 from can.io.generic import FileIOMessageWriter
 
 from ..errors import ConfigError
-from .can_logs import BlfInBackground, open_python_can_writer, streamed, write_can_logs
+from .can_logs import FrameBlfWriter, open_python_can_writer, streamed, write_can_logs
 from .held_signals import signals_held
 from .run_record import TIMESERIES_COLUMNS, RunRecord
 from .writer import timeseries_lines
@@ -68,15 +74,11 @@ class RunStream:
         self._csv_file = open(run_dir / "timeseries.csv", "w", newline="")
         try:
             csv.writer(self._csv_file).writerow(TIMESERIES_COLUMNS)
-            self._blf: list[BlfInBackground] = []  # BLF: written in bulk on a thread of its own
-            self._per_message = []  # the other formats: python-can's writers, one can.Message per frame
             for name in can_logs:
-                if PurePath(name).suffix.lower() == ".blf":
-                    self._blf.append(BlfInBackground(run_dir / name, self._start_s))
-                    self._writers.append(self._blf[-1])
-                elif streamed(name):
+                if streamed(name):
                     self._writers.append(open_python_can_writer(run_dir / name, start))
-                    self._per_message.append(self._writers[-1].on_message_received)
+            self._blf = [w for w in self._writers if isinstance(w, FrameBlfWriter)]  # BLF: in bulk
+            self._per_message = [w.on_message_received for w in self._writers if not isinstance(w, FrameBlfWriter)]
         except BaseException:
             self._stop_all()
             raise
@@ -97,9 +99,8 @@ class RunStream:
         frames, start_s = record.frames, self._start_s
         new = frames[self._frames:]
         self._frames = len(frames)
-        for blf in self._blf:  # the batch, then the end of its container (a second's frames), in the thread
-            blf.write(new)
-            blf.end_container()
+        for blf in self._blf:  # the batch in one array of BLF objects, no can.Message (can_logs.FrameBlfWriter)
+            blf.write_frames(new, start_s)
         if self._per_message:  # one can.Message per frame, shared by every writer
             for f in new:
                 msg = can.Message(timestamp=start_s + f.t_s, arbitration_id=f.arbitration_id, data=f.data,
@@ -108,6 +109,8 @@ class RunStream:
                     log(msg)
         self._csv_file.flush()
         for writer in self._writers:
+            if isinstance(writer, can.BLFWriter):
+                writer._flush()  # noqa: SLF001 - python-can has no public call to close the current container
             if isinstance(writer, FileIOMessageWriter):
                 writer.file.flush()
 

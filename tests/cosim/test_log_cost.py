@@ -1,10 +1,11 @@
-"""Issue 25, item 5: logging that costs little, with the same files.
+"""Issue 25, item 5: logging that costs little, with the same content.
 
-The BLF is written in bulk (:class:`cosim.results.can_logs.FrameBlfWriter`) on a thread of its
-own (:class:`~cosim.results.can_logs.BlfInBackground`), the time series with one ``%`` per row
-(:func:`cosim.results.writer.timeseries_lines`). Each must give exactly the bytes of the way it
-replaces: python-can's ``on_message_received`` per frame, and ``csv.writer`` over
-:func:`~cosim.results.writer.timeseries_cells`. (The speed: ``benchmarks/bench_logging.py``.)
+The BLF is written in bulk (:class:`cosim.results.can_logs.FrameBlfWriter`, containers at zlib
+level 1), the time series with one ``%`` per row (:func:`cosim.results.writer.timeseries_lines`).
+The bulk writer must give exactly the bytes of python-can's ``on_message_received`` per frame
+at the same level, and frames identical to it at python-can's default level 6 when read back;
+the time series exactly ``csv.writer``'s bytes over :func:`~cosim.results.writer.timeseries_cells`.
+(The speed: ``benchmarks/bench_logging.py``.)
 """
 
 from __future__ import annotations
@@ -12,14 +13,13 @@ from __future__ import annotations
 import csv
 import io
 import math
-import signal
 from pathlib import Path
 
 import can
 import pytest
 
 from can_dbc import CounterSequence, encode
-from cosim.results.can_logs import BlfInBackground, FrameBlfWriter
+from cosim.results.can_logs import BLF_COMPRESSION_LEVEL, FrameBlfWriter
 from cosim.results.run_record import LoggedFrame
 from cosim.results.writer import timeseries_cells, timeseries_lines
 
@@ -40,9 +40,11 @@ def _frames(n: int, t0_s: float = 0.0) -> list[LoggedFrame]:
     return out
 
 
-def _per_message(path: Path, batches, max_container_size: int | None = None) -> bytes:
+def _per_message(path: Path, batches, max_container_size: int | None = None,
+                 level: int = BLF_COMPRESSION_LEVEL) -> bytes:
     """python-can's own way: one can.Message per frame, a container closed after each batch."""
-    writer = can.BLFWriter(str(path), **({"max_container_size": max_container_size} if max_container_size else {}))
+    writer = can.BLFWriter(str(path), compression_level=level,
+                           **({"max_container_size": max_container_size} if max_container_size else {}))
     for batch in batches:
         for f in batch:
             writer.on_message_received(can.Message(timestamp=START_S + f.t_s, arbitration_id=f.arbitration_id,
@@ -83,28 +85,26 @@ def test_frames_that_are_not_8_bytes_are_padded_and_cut_as_python_can_does(tmp_p
     assert (tmp_path / "b.blf").read_bytes() == expected
 
 
-def test_the_writer_thread_writes_the_same_file_and_keeps_the_signals_for_the_main_thread(tmp_path):
+def _read(path: Path) -> list[tuple]:
+    with can.BLFReader(str(path)) as reader:
+        return [(m.timestamp, m.arbitration_id, m.is_extended_id, m.is_rx, m.dlc, bytes(m.data), m.channel)
+                for m in reader]
+
+
+def test_level_1_reads_back_the_frames_of_pythons_cans_default_level(tmp_path):
+    """The level is invisible to a reader: the same frames and header statistics, a slightly larger file."""
     batches = _batches()
-    expected = _per_message(tmp_path / "a.blf", batches)
-    background = BlfInBackground(tmp_path / "b.blf", START_S)
-    status = Path(f"/proc/self/task/{background._thread.native_id}/status")
-    blocked = int(next(line for line in status.read_text().splitlines() if line.startswith("SigBlk:")).split()[1], 16)
+    _per_message(tmp_path / "default.blf", batches, level=-1)
+    writer = FrameBlfWriter(str(tmp_path / "ours.blf"))
     for batch in batches:
-        background.write(batch)
-        background.end_container()
-    background.stop()
-    background.stop()  # idempotent
-    assert (tmp_path / "b.blf").read_bytes() == expected
-    assert blocked & (1 << (signal.SIGINT - 1)) and blocked & (1 << (signal.SIGTERM - 1))
-
-
-def test_a_failure_in_the_writer_thread_is_raised_to_the_run(tmp_path):
-    background = BlfInBackground(tmp_path / "b.blf", START_S)
-    background.write(_frames(10))
-    background._writer.file.close()  # the disk goes away under the thread
-    background.end_container()
-    with pytest.raises(ValueError, match="closed file"):
-        background.stop()
+        writer.write_frames(batch, START_S)
+        writer._flush()
+    writer.stop()
+    assert _read(tmp_path / "ours.blf") == _read(tmp_path / "default.blf")
+    with can.BLFReader(str(tmp_path / "ours.blf")) as ours, can.BLFReader(str(tmp_path / "default.blf")) as default:
+        assert (ours.start_timestamp, ours.stop_timestamp, ours.object_count) == (
+            default.start_timestamp, default.stop_timestamp, default.object_count)
+    assert (tmp_path / "ours.blf").read_bytes() != (tmp_path / "default.blf").read_bytes()
 
 
 def _csv(rows) -> str:
