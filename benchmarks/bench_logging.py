@@ -18,8 +18,8 @@ Printed per strategy (medians over the rounds, min..max):
   ``wall_time_s`` (the issue's figure);
 * ``ratio (metrics)``: crd run's ``x real`` / the loop's. Goal: >= 0.9;
 * ``ratio (to logs closed)``: the same, over the whole call each (the plant loaded, the run,
-  and for crd run every log written and closed, the BLF writer thread joined): logging that
-  finishes after the loop is charged too;
+  and for crd run every log written and closed): logging that finishes after the loop is
+  charged too;
 * ``ratio (CPU time)``: the same over the CPU time of this process (all its threads): what the
   logging costs in all, wherever it runs; a shared machine disturbs it less than the wall time;
 * ``--with-report``: also ``run_strategies`` (report, plots, ``metrics.json``, config) over

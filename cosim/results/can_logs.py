@@ -4,7 +4,8 @@ Every file starts at the scenario's ``[scenario] start_time`` (a fixed,
 documented date by default, so the files are the same from run to run) and
 stamps each frame with that start time plus its simulation time:
 
-* python-can's writers (chosen by suffix) get absolute time stamps, so the BLF
+* python-can's writers (chosen by suffix; BLF given the frames in bulk, its
+  containers at zlib level 1: :class:`FrameBlfWriter`) get absolute time stamps, so the BLF
   header's start time, the TRC ``$STARTTIME`` and the candump/CSV stamps are
   the run's start; the BLF offsets and the ASC times are the simulation time.
   The ASC ``date``/``Begin Triggerblock`` lines are the start time in its own
