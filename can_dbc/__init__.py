@@ -38,7 +38,7 @@ from .errors import (
     SignalError,
     UnknownFrame,
 )
-from .receiver import RX_RATE, RX_SEQUENCE, SYNC_FRAMES, Frame, Receiver
+from .receiver import RX_RATE, RX_SEQUENCE, SYNC_FRAMES, Frame, Receiver, check_alone
 from .secoc import SecOcSender, SecOcVerifier, generate_key, load_key_file, write_key_file
 
 __all__ = [
@@ -49,7 +49,7 @@ __all__ = [
     "COUNTER_MODULUS", "DATABASE", "DBC_PATH", "LAYOUTS", "LAYOUTS_BY_ID",
     "ChecksumError", "CounterError", "CounterSequence", "DecodeError", "EnumError",
     "Frame", "FrameError", "LengthError", "RangeError", "Receiver", "SignalError",
-    "UnknownFrame", "crc8_j1850", "cycle_time_s", "e2e_signal_names", "signal_layout", "e2e_p01_crc", "encode", "encode_payload",
+    "UnknownFrame", "check_alone", "crc8_j1850", "cycle_time_s", "e2e_signal_names", "signal_layout", "e2e_p01_crc", "encode", "encode_payload",
 ]
 
 

@@ -116,6 +116,20 @@ class _Rx:
             self.score += 1
 
 
+def check_alone(msg: can.Message) -> Frame:
+    """``msg`` checked on its own merits: known ID, DLC, CRC, counter range, decode, range, enumerations.
+
+    No receive state is read or changed (no counter sequence, rate, score or SecOC): the
+    frame is judged as a receiver that has seen nothing before would judge it. For a
+    caller that must weigh frames whose *sequence* is in doubt (two senders of one message,
+    :mod:`cosim.world.gateway`). Raises a :class:`FrameError`; counts nothing.
+    """
+    layout = None if msg.is_extended_id else LAYOUTS_BY_ID.get(msg.arbitration_id)
+    if layout is None:
+        raise UnknownFrame(f"expected an ID of the contract, got 0x{msg.arbitration_id:X}")
+    return Receiver._check_known(_Rx(layout, None, False), msg)
+
+
 class Receiver:
     """Checks frames against the contract and keeps E2E state per message.
 
@@ -216,7 +230,8 @@ class Receiver:
         self.stats["authenticated"] += 1
         return held
 
-    def _check_known(self, rx: _Rx, msg: can.Message, t_s: float | None = None) -> Frame:
+    @staticmethod
+    def _check_known(rx: _Rx, msg: can.Message, t_s: float | None = None) -> Frame:
         """Checks (2) to (7) of the module doc on a frame of a known message, and the sync state."""
         data, layout, name = msg.data, rx.layout, rx.name
         if msg.dlc != FRAME_LENGTH or len(data) != FRAME_LENGTH or msg.is_fd:

@@ -14,6 +14,16 @@ Fail safe inside the cycle: an exception in the core is logged and answered
 with a FAULT frame (``ThrottleLimit 0``, internal fault flag; a contingency
 in progress keeps braking); a send error is counted and logged.
 
+Standalone (``crd ecu``, issue 25): the node announces itself on the bus
+(``EcuIdentity``: its software version, strategy and settings digest,
+:mod:`ecu.config_digest`; with a key, authenticated): while it waits for a
+run, as its scheduler asks (:meth:`announce`), then in its first cycle and
+every 100 cycles. Paced by ``SimClock``, its run starts at ``SimTimeMs`` 0: a
+node that has taken no clock yet rejects any other (so a master that resumes a
+run after the ECU ended it stalls loudly instead of going on with a fresh ECU).
+An ECU the co-simulation steps in its own process is not standalone and sends
+no ``EcuIdentity``.
+
 Issue 15: frames are rate-monitored at their cycle time; with a key
 (``key`` or ``config.key_file``) every input and ``SimClock`` must carry a
 valid SecOC authenticator and ``SafetyOverride`` is sent with one
@@ -32,13 +42,14 @@ from collections import Counter
 
 import can
 
-from can_dbc import (AUTHENTICATORS, LAYOUTS, CounterSequence, Frame, Receiver, SecOcSender, SecOcVerifier,
-                     load_key_file)
+from can_dbc import (AUTHENTICATORS, ECU_CYCLE_S, LAYOUTS, CounterSequence, Frame, Receiver, SecOcSender,
+                     SecOcVerifier, cycle_time_s, encode, load_key_file)
 
 from .bus_port import INPUT_MESSAGES, SIM_CLOCK, InputLatch, override_message, status_message
-from .config import EcuConfig
+from .config import STATUS_PERIOD_CYCLES, EcuConfig
+from .config_digest import identity_signals
 from .core import CoreOutputs, CoreState, FaultFlag, Mode, step as core_step
-from .scheduler import RunReport, run_real_time, run_sim_time
+from .scheduler import RunBoundary, RunReport, run_real_time, run_sim_time
 
 log = logging.getLogger(__name__)
 SIM_CLOCK_ID = LAYOUTS[SIM_CLOCK].frame_id
@@ -47,14 +58,22 @@ _FOREIGN_IDS = frozenset((LAYOUTS["SafetyOverride"].frame_id, AUTHENTICATORS["Sa
 FLAG_HOLD_S = 1.0
 #: a SimClock may advance by 1 .. this many ECU cycles (E2E tolerates two lost frames likewise)
 MAX_CLOCK_STEP_CYCLES = 3
+#: a standalone node announces itself every this many cycles in a run (the DBC's EcuIdentity cycle)
+IDENTITY_PERIOD_CYCLES = round(cycle_time_s("EcuIdentity") / ECU_CYCLE_S)
+if IDENTITY_PERIOD_CYCLES % STATUS_PERIOD_CYCLES:  # _cycle announces within the cycles that send EcuStatus
+    raise ValueError(f"the DBC's EcuIdentity cycle: expected a multiple of EcuStatus's {STATUS_PERIOD_CYCLES} "
+                     f"cycles, got {IDENTITY_PERIOD_CYCLES}")
 
 
 class EcuNode:
     """The active-safety ECU on ``bus``. It does not own the bus (the caller shuts it down)."""
 
-    def __init__(self, bus: can.BusABC, config: EcuConfig | None = None, key: bytes | None = None) -> None:
+    def __init__(self, bus: can.BusABC, config: EcuConfig | None = None, key: bytes | None = None,
+                 standalone: bool = False) -> None:
         self.bus = bus
         self.config = config if config is not None else EcuConfig()
+        self._identity = identity_signals(self.config) if standalone else None
+        self._next_identity = CounterSequence().next
         if key is None and self.config.key_file:
             key = load_key_file(self.config.key_file)
         self._signer = SecOcSender(key) if key is not None else None
@@ -141,11 +160,22 @@ class EcuNode:
             self._latch.ingest(earlier, t_s)
         return self._cycle(t_s)
 
-    def run(self, stop_event: threading.Event) -> RunReport:
-        """Run until ``stop_event`` is set: on the wall clock, or per SimClock if ``config.sim_time``."""
+    def run(self, stop_event: threading.Event, boundary: RunBoundary | None = None) -> RunReport:
+        """Run until ``stop_event`` is set (or ``boundary`` ends the run): on the wall clock, or per SimClock
+        if ``config.sim_time``."""
         if self.config.sim_time:
-            return run_sim_time(self, stop_event)
-        return run_real_time(self, stop_event, self.config.cycle_s)
+            return run_sim_time(self, stop_event, boundary)
+        return run_real_time(self, stop_event, self.config.cycle_s, boundary)
+
+    def announce(self) -> None:
+        """Send ``EcuIdentity`` (and its authenticator), if standalone; ``RunActive`` once a frame came in."""
+        if self._identity is None:
+            return
+        in_run = any(self._receiver.stats.values()) or bool(self._errors.get("foreign_overrides"))
+        msg = encode("EcuIdentity", {**self._identity, "RunActive": int(in_run)}, self._next_identity())
+        self._send(msg)
+        if self._signer is not None:
+            self._send(self._signer.authenticator(msg))
 
     def ingest(self, msg: can.Message, t_s: float) -> None:
         """Check one received frame now and latch it as received at cycle time ``t_s``."""
@@ -155,6 +185,10 @@ class EcuNode:
         """A SimClock must advance by 1..MAX_CLOCK_STEP_CYCLES cycles; else it is rejected and flagged."""
         last = self._last_clock_s
         cycle = self.config.cycle_s
+        if last is None and self._identity is not None and t_s != 0.0:  # standalone: a run starts at 0
+            self._errors["clock_errors"] += 1
+            log.warning("SimClock %.3f s rejected: a run starts at SimTimeMs 0", t_s)
+            return False
         if last is not None and not (0.5 * cycle < t_s - last < (MAX_CLOCK_STEP_CYCLES + 0.5) * cycle):
             self._errors["clock_errors"] += 1
             self._flag_t_s[FaultFlag.CLOCK] = last
@@ -205,6 +239,8 @@ class EcuNode:
             self._send(self._signer.authenticator(override))
         if self._cycle_index % self.config.status_period_cycles == 0:
             self._send(status_message(outputs, self.config.strategy_code, self._next_status()))
+            if self._identity is not None and self._cycle_index % IDENTITY_PERIOD_CYCLES == 0:
+                self.announce()
         self._cycle_index += 1
         return outputs
 

@@ -20,6 +20,17 @@ hour at 100 Hz); maxima are over the whole run.
 Sim time: one cycle per valid ``SimClock`` frame, after the frames received
 before it, at ``t_s = SimTimeMs / 1000`` (see ``EcuNode.on_sim_message``).
 
+Runs served by ``crd ecu`` (issue 25, :class:`RunBoundary`): a standalone ECU
+serves one run after the other, each by a fresh :class:`~ecu.node.EcuNode`.
+A run starts with the first frame the node takes in and is over when its
+master has left the bus: on a bus that counts its participants (``crd_unix``,
+``crd_pair``) when none is left, and on any bus after ``RUN_GAP_S`` (1 s) of
+waiting without a frame (waiting, not wall time: an ECU stopped by
+``SIGSTOP`` finds its frames queued when it resumes, and waited for none).
+While no run is on, the node announces itself (``EcuIdentity``, waiting) every
+``IDLE_ANNOUNCE_S`` and whenever a participant joins, so that a master knows a
+fresh node listens before it starts.
+
 Bus errors on receive: a one-off ``can.CanError`` (another participant died,
 an overrun) is logged and the loop goes on; the same receive failing twice in
 a row means the bus itself is gone (e.g. the hub's process died), and the
@@ -34,7 +45,7 @@ import threading
 import time
 from collections import deque
 from dataclasses import dataclass
-from typing import Iterable, Protocol, runtime_checkable
+from typing import Callable, Iterable, Protocol, runtime_checkable
 
 import can
 
@@ -42,6 +53,10 @@ log = logging.getLogger(__name__)
 
 WINDOW = 360_000
 RECV_POLL_S = 0.05
+#: a served run is over after this long of waiting without a frame (s): its master has left
+RUN_GAP_S = 1.0
+#: while no run is on, a standalone node announces itself this often (s) (and when a participant joins)
+IDLE_ANNOUNCE_S = 0.25
 #: the final part of each wait for a deadline that is spent polling instead of blocking (s)
 SPIN_S = 0.001
 
@@ -96,6 +111,54 @@ class ScheduledNode(Protocol):
         """Sim time: buffer ``msg``; a valid ``SimClock`` runs one cycle (returns its outputs, else None)."""
 
 
+@runtime_checkable
+class PeerCounting(Protocol):
+    """A bus that knows how many other participants it has (``crd_unix``, ``crd_pair``)."""
+
+    peer_count: int
+
+
+class RunBoundary:
+    """Where a run served by a standalone ECU begins and ends (module docstring), and its idle announcements.
+
+    The scheduler reports what it sees: :meth:`frame` for each frame taken in, :meth:`waited`
+    for each wait that brought none, which says whether the run is over. The bus's participants
+    are counted only then: while frames come, the master is there.
+    """
+
+    def __init__(self, bus: can.BusABC, announce: Callable[[], None], gap_s: float = RUN_GAP_S) -> None:
+        self._peers = bus if isinstance(bus, PeerCounting) else None
+        self._announce = announce
+        self._gap_s = gap_s
+        self.started = False
+        self._quiet_s = 0.0
+        self._since_announce_s = 0.0
+        self._peer_count = self._count()
+
+    def _count(self) -> int:
+        return self._peers.peer_count if self._peers is not None else 0
+
+    def frame(self) -> None:
+        self.started = True
+        self._quiet_s = 0.0
+
+    def waited(self, seconds: float) -> bool:
+        """``seconds`` spent waiting without a frame; True once the run is over (its master has left).
+
+        While no run is on, the node announces itself when due or when a participant joined.
+        """
+        count = self._count()
+        if self.started:
+            self._quiet_s += seconds
+            return self._quiet_s >= self._gap_s or (self._peers is not None and count == 0)
+        self._since_announce_s += seconds
+        if self._since_announce_s >= IDLE_ANNOUNCE_S or count > self._peer_count:
+            self._since_announce_s = 0.0
+            self._announce()
+        self._peer_count = count
+        return False
+
+
 class _Samples:
     def __init__(self) -> None:
         self.values: deque[float] = deque(maxlen=WINDOW)
@@ -137,8 +200,9 @@ class _Receiver:
         return msg
 
 
-def run_real_time(node: ScheduledNode, stop_event: threading.Event, cycle_s: float) -> RunReport:
-    """Cycle on absolute wall-clock deadlines until ``stop_event`` is set."""
+def run_real_time(node: ScheduledNode, stop_event: threading.Event, cycle_s: float,
+                  boundary: RunBoundary | None = None) -> RunReport:
+    """Cycle on absolute wall-clock deadlines until ``stop_event`` is set (or ``boundary`` says the run is over)."""
     clock = time.perf_counter
     lag, jitter, duration = _Samples(), _Samples(), _Samples()
     cycles = missed = 0
@@ -148,7 +212,12 @@ def run_real_time(node: ScheduledNode, stop_event: threading.Event, cycle_s: flo
     t0 = clock()
     while not stop_event.is_set():
         deadline = t0 + k * cycle_s
-        _receive_until(node, receiver, deadline, k * cycle_s, clock)
+        received = _receive_until(node, receiver, deadline, k * cycle_s, clock)
+        if boundary is not None:
+            if received:
+                boundary.frame()
+            elif boundary.waited(cycle_s):
+                break
         start = clock()
         late = start - deadline
         if late >= cycle_s:
@@ -169,8 +238,8 @@ def run_real_time(node: ScheduledNode, stop_event: threading.Event, cycle_s: flo
                      duration.percentiles())
 
 
-def _receive_until(node: ScheduledNode, receiver: _Receiver, deadline: float, t_s: float, clock) -> None:
-    """Wait for the deadline while taking frames in as they arrive (they belong to cycle ``t_s``).
+def _receive_until(node: ScheduledNode, receiver: _Receiver, deadline: float, t_s: float, clock) -> int:
+    """Wait for the deadline while taking frames in as they arrive (they belong to cycle ``t_s``); how many came.
 
     Spreading the decoding over the idle time keeps a flood of frames from piling up
     into one long drain at the start of the cycle. The last ``SPIN_S`` before the
@@ -178,12 +247,15 @@ def _receive_until(node: ScheduledNode, receiver: _Receiver, deadline: float, t_
     wait can cost 0.1 to 2 ms on a virtual machine (both baselines are printed by
     ``benchmarks/bench_ecu.py``); polling costs about 10 % of one core.
     """
+    received = 0
     while (remaining := deadline - clock()) > 0.0:
         msg = receiver.recv(remaining - SPIN_S if remaining > SPIN_S else 0.0)
         if msg is not None:
             node.ingest(msg, t_s)
+            received += 1
         elif remaining <= SPIN_S:
             time.sleep(0)  # lets another thread of this process (a bus reader, a sender) take the GIL
+    return received
 
 
 @runtime_checkable
@@ -197,8 +269,8 @@ class BatchSending(Protocol):
         """Write the kept frames in one go; raise ``can.CanError`` if that fails."""
 
 
-def run_sim_time(node: ScheduledNode, stop_event: threading.Event) -> RunReport:
-    """One cycle per ``SimClock`` frame until ``stop_event`` is set.
+def run_sim_time(node: ScheduledNode, stop_event: threading.Event, boundary: RunBoundary | None = None) -> RunReport:
+    """One cycle per ``SimClock`` frame until ``stop_event`` is set (or ``boundary`` says the run is over).
 
     On a bus that batches, the frames a cycle sends (``SafetyOverride``, its
     authenticator, ``EcuStatus``) leave in one write: one wake-up of the master
@@ -213,7 +285,11 @@ def run_sim_time(node: ScheduledNode, stop_event: threading.Event) -> RunReport:
     while not stop_event.is_set():
         msg = receiver.recv(RECV_POLL_S)
         if msg is None:
+            if boundary is not None and boundary.waited(RECV_POLL_S):
+                break
             continue
+        if boundary is not None:
+            boundary.frame()
         start = clock()
         begin()
         try:

@@ -31,6 +31,10 @@ def add_ecu_arguments(parser: argparse.ArgumentParser, realtime: bool) -> None:
     g.add_argument("--key-file", metavar="F",
                    help="SecOC key file (32 hex digits, mode 0600) shared with the ECU; default: a fresh key "
                         "per run in process and for --ecu process; attach without it: E2E protection only")
+    g.add_argument("--ecu-settings", default="scenario", metavar="scenario|ecu|FILE",
+                   help="an ECU on a bus announces what it runs: scenario (default): it must run the scenario's "
+                        "[ecu], else a one-line error; ecu: run with its own settings (recorded); FILE: its "
+                        "settings are this file (checked against its announcement, recorded)")
     if realtime:
         g.add_argument("--realtime", action="store_true",
                        help="pace the co-simulation to the wall clock; the ECU runs on its own clock")
@@ -40,7 +44,7 @@ def ecu_options(args: argparse.Namespace) -> EcuOptions:
     return EcuOptions(mode=args.ecu, interface=args.bus_interface, channel=args.bus_channel,
                       realtime=getattr(args, "realtime", False), join_timeout_s=args.join_timeout,
                       reply_timeout_s=args.reply_timeout, stall_timeout_s=args.stall_timeout,
-                      key_file=args.key_file)
+                      key_file=args.key_file, ecu_settings=args.ecu_settings)
 
 
 def timing_lines(records: list[RunRecord]) -> list[str]:

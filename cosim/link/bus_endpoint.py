@@ -21,15 +21,17 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
-from typing import Protocol, runtime_checkable
+from typing import Callable, Protocol, runtime_checkable
 
 import can
 
 from can_dbc import write_key_file
 from ecu import EcuConfig
+from ecu.scheduler import PeerCounting
 
 from ..results.events import EventLog
 from ..results.run_record import RunEvent
+from .ecu_identity import IdentityCheck
 from .ecu_link import EcuLinkError, EcuOptions
 from .ecu_process import EcuProcess, prepare_spare
 
@@ -38,13 +40,6 @@ _POLL_S = 0.005
 _DRAIN_QUIET_S = 0.002
 #: how often a join blocked on the bus looks whether the spawned ECU died (s)
 _JOIN_CHECK_S = 0.05
-
-
-@runtime_checkable
-class PeerCounting(Protocol):
-    """A bus that knows how many other participants it has."""
-
-    peer_count: int
 
 
 @runtime_checkable
@@ -103,8 +98,8 @@ class BusEndpoint:
     def pid(self) -> int | None:
         return self.process.pid if self.process else None
 
-    def join(self, first_frame_joins: bool) -> None:
-        """Wait (at most ``join_timeout_s``) for the ECU; drop anything sent before.
+    def join(self, first_frame_joins: bool, seen: Callable[[can.Message], None] = lambda msg: None) -> None:
+        """Wait (at most ``join_timeout_s``) for the ECU; drop anything sent before (after showing it to ``seen``).
 
         Without a peer count, ``first_frame_joins`` waits for the ECU's first frame (real
         time); otherwise the first cycle's reply wait stands in for joining (lock-step).
@@ -119,7 +114,10 @@ class BusEndpoint:
             if self.peers is not None:
                 if self.peers.peer_count >= 1:
                     break
-            elif not first_frame_joins or self.recv(_POLL_S) is not None:
+            elif not first_frame_joins:
+                break
+            elif (first := self.recv(_POLL_S)) is not None:
+                seen(first)
                 break
             if time.monotonic() >= deadline:
                 raise EcuLinkError(f"expected an ECU on {self.options.interface} {self.channel} within "
@@ -128,14 +126,29 @@ class BusEndpoint:
                 self.bus.wait_for_peer(min(_JOIN_CHECK_S, max(0.0, deadline - time.monotonic())))
             else:
                 time.sleep(_POLL_S)
-        # drop what came before, up to a quiet moment: a real-time ECU sends each SafetyOverride
-        # and its authenticator back to back, and a drain ending between the two would hand the
-        # gateway an authenticator without its frame (a false authentication failure)
-        while self.recv(_DRAIN_QUIET_S if first_frame_joins and self.keyed else 0.0) is not None:
-            pass
+        self._drop_before_run(first_frame_joins, seen)
         self.join_wait_s = time.monotonic() - started
         if self.process is not None and self.options.spare and not self.options.realtime:
             prepare_spare()  # the next run's ECU starts up now, beside this run (never in real time: jitter)
+
+    def check_ecu(self, identity: IdentityCheck, realtime: bool) -> dict:
+        """After :meth:`join`: wait (bounded) for the ECU to announce what it runs and judge it
+        (:class:`~cosim.link.ecu_identity.EcuSettingsError` if it does not fit); drop what came meanwhile."""
+        started = time.monotonic()
+        record = identity.wait(lambda timeout_s: self.recv(timeout_s), self.options.join_timeout_s, self.who())
+        self._drop_before_run(realtime, identity.offer)
+        self.join_wait_s += time.monotonic() - started
+        return {"placement": self.options.mode, **record}
+
+    def _drop_before_run(self, realtime: bool, seen: Callable[[can.Message], None]) -> None:
+        """Drop what came before the run, up to a quiet moment (showing each frame to ``seen``).
+
+        A real-time ECU sends each SafetyOverride and its authenticator back to back, and a
+        drain ending between the two would hand the gateway an authenticator without its
+        frame (a false authentication failure).
+        """
+        while (msg := self.recv(_DRAIN_QUIET_S if realtime and self.keyed else 0.0)) is not None:
+            seen(msg)
 
     def recv(self, timeout: float, t_s: float = 0.0) -> can.Message | None:
         try:

@@ -12,6 +12,10 @@
 * ``attach``: an ECU already running on ``interface``/``channel``; the
   master waits up to ``join_timeout_s`` for it.
 
+An ECU on a bus (``process``, ``attach``) announces what it runs; before the
+first cycle the link checks it against the scenario's ``[ecu]``
+(``ecu_settings``, :mod:`cosim.link.ecu_identity`) and reports it.
+
 Over a bus the master either runs in lock-step (:mod:`cosim.link.lock_step`:
 each cycle's frames, then ``SimClock``, then a bounded wait for the reply) or
 in real time (:mod:`cosim.link.real_time`: paced to the wall clock, taking
@@ -64,6 +68,8 @@ class LinkReport:
     timing: dict[str, float] = field(default_factory=dict)  # real time: the master's lag and jitter (s)
     ecu_report: str = ""  # what a spawned crd ecu printed (its run summary)
     join_wait_s: float = 0.0  # wall time spent waiting for an out-of-process ECU to join
+    #: an ECU on a bus: what it announced it runs (cosim.link.ecu_identity.IdentityCheck.record)
+    ecu_settings: dict | None = None
 
 
 class EcuLink(Protocol):
@@ -112,6 +118,9 @@ class EcuOptions:
     #: lock-step with a spawned ECU: start the next run's ECU process once this run's has joined
     #: (:func:`~cosim.link.ecu_process.prepare_spare`); False for a run that no other follows
     spare: bool = True
+    #: whose settings an ECU on a bus runs with: ``scenario`` (checked against its announcement),
+    #: ``ecu`` (whatever it runs, recorded) or the path of its settings file (:mod:`cosim.link.ecu_identity`)
+    ecu_settings: str = "scenario"
 
     def __post_init__(self) -> None:
         if self.interface is None:
@@ -123,6 +132,9 @@ class EcuOptions:
         if self.realtime and self.mode == "inprocess":
             raise EcuLinkError("--realtime: expected --ecu process or attach (an ECU on its own clock), "
                                "got inprocess")
+        if self.mode == "inprocess" and self.ecu_settings != "scenario":
+            raise EcuLinkError(f"--ecu-settings {self.ecu_settings}: expected --ecu attach or process (an ECU in "
+                               "this process is built from the scenario's [ecu])")
         for name in ("join_timeout_s", "reply_timeout_s", "stop_timeout_s", "stall_timeout_s"):
             if not getattr(self, name) > 0.0:
                 raise EcuLinkError(f"{name}: expected > 0 s, got {getattr(self, name)!r}")

@@ -22,6 +22,7 @@ from can_dbc import AUTHENTICATORS, LAYOUTS, CounterSequence, SecOcSender, encod
 from ecu import EcuConfig
 
 from .bus_endpoint import BusEndpoint
+from .ecu_identity import IdentityCheck
 from .ecu_link import EcuOptions, LinkReport
 from .stall import StallWatch
 
@@ -43,6 +44,8 @@ class LockStepLink:
         self._status_period = config.status_period_cycles if options.mode == "process" else None
         self._clock_seq = CounterSequence()
         self._stall = StallWatch(options.reply_timeout_s, options.stall_timeout_s)
+        self._identity = IdentityCheck(config, options.ecu_settings, key)
+        self._ecu_settings: dict | None = None
 
     # what tests and the CLI look at: the spawned process, the bus, whether the ECU was lost
     pid = property(lambda self: self.endpoint.pid)
@@ -51,7 +54,9 @@ class LockStepLink:
     lost = property(lambda self: self.endpoint.lost)
 
     def start(self) -> None:
-        self.endpoint.join(first_frame_joins=False)
+        """Wait for the ECU to join and to announce that it waits for a run, with settings that fit."""
+        self.endpoint.join(first_frame_joins=False, seen=self._identity.offer)
+        self._ecu_settings = self.endpoint.check_ecu(self._identity, realtime=False)
 
     def pace(self, cycle: int) -> None:
         pass
@@ -89,7 +94,8 @@ class LockStepLink:
         return endpoint.drain(t_s, received)  # e.g. a second ECU's frames
 
     def report(self) -> LinkReport:
-        return LinkReport(ecu_report=self.endpoint.ecu_report, join_wait_s=self.endpoint.join_wait_s)
+        return LinkReport(ecu_report=self.endpoint.ecu_report, join_wait_s=self.endpoint.join_wait_s,
+                          ecu_settings=self._ecu_settings)
 
     def close(self) -> None:
         self.endpoint.close()

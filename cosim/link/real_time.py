@@ -17,6 +17,7 @@ import can
 from ecu import EcuConfig, Percentiles
 
 from .bus_endpoint import BusEndpoint
+from .ecu_identity import IdentityCheck
 from .ecu_link import EcuOptions, LinkReport
 
 #: the last part of a wait for a deadline spent polling rather than sleeping (s): an OS wake-up can be late
@@ -38,6 +39,8 @@ class RealTimeLink:
         self._t0 = 0.0
         self._prev_start: float | None = None
         self._last_rx_wall = 0.0
+        self._identity = IdentityCheck(config, options.ecu_settings, key)
+        self._ecu_settings: dict | None = None
 
     pid = property(lambda self: self.endpoint.pid)
     process = property(lambda self: self.endpoint.process)
@@ -45,7 +48,9 @@ class RealTimeLink:
     lost = property(lambda self: self.endpoint.lost)
 
     def start(self) -> None:
-        self.endpoint.join(first_frame_joins=True)
+        """Wait for the ECU's first frame and its announcement, with settings that fit; then start the clock."""
+        self.endpoint.join(first_frame_joins=True, seen=self._identity.offer)
+        self._ecu_settings = self.endpoint.check_ecu(self._identity, realtime=True)
         self._t0 = time.perf_counter()
         self._last_rx_wall = time.monotonic()
 
@@ -84,7 +89,7 @@ class RealTimeLink:
             jit = Percentiles.of(self._jitter, max(self._jitter, default=0.0))
             timing = {"lag_p50_s": lag.p50, "lag_p99_s": lag.p99, "lag_max_s": lag.max,
                       "jitter_p50_s": jit.p50, "jitter_p99_s": jit.p99, "jitter_max_s": jit.max}
-        return LinkReport(timing, self.endpoint.ecu_report, self.endpoint.join_wait_s)
+        return LinkReport(timing, self.endpoint.ecu_report, self.endpoint.join_wait_s, self._ecu_settings)
 
     def close(self) -> None:
         self.endpoint.close()

@@ -321,6 +321,7 @@ class ClosedLoop:
         self.record.timing = dict(report.timing)
         self.record.ecu_report = report.ecu_report
         self.record.ecu_join_wait_s = report.join_wait_s
+        self.record.ecu_settings = report.ecu_settings
         self.record.events.sort(key=lambda e: e.t_s)
         if self._timer is not None and cycles:
             self.record.cycle_cost_s = self._timer.per_cycle_s(cycles)

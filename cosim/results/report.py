@@ -70,11 +70,30 @@ def _events(records: Sequence[RunRecord]) -> list[str]:
     return lines
 
 
+def _ecu_settings(records: Sequence[RunRecord]) -> list[str]:
+    """What an ECU on a bus announced it runs, per run (nothing for an ECU in this process)."""
+    announced = [(r.strategy, r.ecu_settings) for r in records if r.ecu_settings is not None]
+    if not announced:
+        return []
+    lines = ["## ECU settings", ""]
+    for strategy, e in announced:
+        if not e["announced"]:
+            lines.append(f"- **{strategy}** ({e['placement']}): the ECU did not announce what it runs "
+                         "(`--ecu-settings ecu`): its settings are not known")
+            continue
+        known = f"{e['known_as']}" if e["known_as"] else "settings not known here"
+        lines.append(f"- **{strategy}** ({e['placement']}, settings used: {e['source']}): the ECU runs crd "
+                     f"{e['software_version']}, strategy {e['strategy']}, config digest {e['config_digest']}: {known}"
+                     f" (the scenario's `[ecu]`: {e['scenario_config_digest']})")
+    return lines + [""]
+
+
 def write_report(path: Path, title: str, records: Sequence[RunRecord], verdicts: tuple[str, Sequence[Verdict]],
                  plots: Sequence[tuple[str, str]], resolved_toml: str) -> None:
     """Write ``report.md``: ``verdicts`` is (heading, list); ``plots`` are (caption, path relative to the report)."""
     heading, items = verdicts
     lines = [f"# {title}", "", "## Results", "", metrics_table(records), ""]
+    lines += _ecu_settings(records)
     lines += _verdicts(heading, items) + [""]
     lines += _events(records) + ["", "## Plots", ""]
     lines += [f"![{caption}]({rel})\n" for caption, rel in plots]

@@ -61,6 +61,8 @@ class RunRecord:
     ecu_report: str = ""  # what a spawned crd ecu printed (its run summary)
     ecu_join_wait_s: float = 0.0  # wall time spent waiting for an out-of-process ECU to join (in wall_time_s)
     interrupted: str | None = None  # the signal that ended the run early ("SIGINT", "SIGTERM")
+    #: an ECU on a bus: the settings it announced and what is known of them (cosim.link.ecu_identity)
+    ecu_settings: dict | None = None
 
     @property
     def status(self) -> str:

@@ -13,8 +13,14 @@
   leaves its files complete up to the last simulated second. :meth:`close`
   writes the rest and closes the files (the BLF header gets its statistics).
   The rows and frames stay in the :class:`RunRecord` too (the metrics, plots
-  and tests use them); the cost is the same formatting the end-of-run writer
-  did, spread over the run.
+  and tests use them).
+
+What it costs (issue 25; ``benchmarks/bench_logging.py``): the BLF gets each
+batch of frames as one array of BLF objects, no ``can.Message`` per frame, and
+compresses its containers at zlib level 1
+(:class:`~cosim.results.can_logs.FrameBlfWriter`); the time series is
+formatted with one ``%`` per row (:func:`~cosim.results.writer.timeseries_lines`).
+Other log formats take python-can's writers frame by frame, as before.
 """
 
 from __future__ import annotations
@@ -29,10 +35,10 @@ import can
 from can.io.generic import FileIOMessageWriter
 
 from ..errors import ConfigError
-from .can_logs import open_python_can_writer, streamed, write_can_logs
+from .can_logs import FrameBlfWriter, open_python_can_writer, streamed, write_can_logs
 from .held_signals import signals_held
 from .run_record import TIMESERIES_COLUMNS, RunRecord
-from .writer import timeseries_cells
+from .writer import timeseries_lines
 
 
 def check_out_dir(out_dir: Path, subdirs: Iterable[str] = ()) -> None:
@@ -67,11 +73,12 @@ class RunStream:
         self._writers: list = []
         self._csv_file = open(run_dir / "timeseries.csv", "w", newline="")
         try:
-            self._csv = csv.writer(self._csv_file)
-            self._csv.writerow(TIMESERIES_COLUMNS)
+            csv.writer(self._csv_file).writerow(TIMESERIES_COLUMNS)
             for name in can_logs:
                 if streamed(name):
                     self._writers.append(open_python_can_writer(run_dir / name, start))
+            self._blf = [w for w in self._writers if isinstance(w, FrameBlfWriter)]  # BLF: in bulk
+            self._per_message = [w.on_message_received for w in self._writers if not isinstance(w, FrameBlfWriter)]
         except BaseException:
             self._stop_all()
             raise
@@ -87,18 +94,19 @@ class RunStream:
 
     def _write_new(self, record: RunRecord) -> None:
         rows = record.rows
-        writerow = self._csv.writerow
-        for row in rows[self._rows:]:
-            writerow(timeseries_cells(row))
+        self._csv_file.write(timeseries_lines(rows[self._rows:]))
         self._rows = len(rows)
         frames, start_s = record.frames, self._start_s
-        logs = [w.on_message_received for w in self._writers]
-        for f in frames[self._frames:]:
-            msg = can.Message(timestamp=start_s + f.t_s, arbitration_id=f.arbitration_id, data=f.data,
-                              is_extended_id=False, channel=0)
-            for log in logs:
-                log(msg)
+        new = frames[self._frames:]
         self._frames = len(frames)
+        for blf in self._blf:  # the batch in one array of BLF objects, no can.Message (can_logs.FrameBlfWriter)
+            blf.write_frames(new, start_s)
+        if self._per_message:  # one can.Message per frame, shared by every writer
+            for f in new:
+                msg = can.Message(timestamp=start_s + f.t_s, arbitration_id=f.arbitration_id, data=f.data,
+                                  is_extended_id=False, channel=0)
+                for log in self._per_message:
+                    log(msg)
         self._csv_file.flush()
         for writer in self._writers:
             if isinstance(writer, can.BLFWriter):

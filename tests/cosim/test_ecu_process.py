@@ -118,7 +118,7 @@ def test_attach_without_an_ecu_gives_up_after_the_bounded_wait(plant_fmu3, sock_
     assert time.monotonic() - started < 5.0
 
 
-def test_a_second_ecu_on_the_bus_is_detected_and_not_obeyed(plant_fmu3, sock_dir, caplog):
+def test_a_second_ecu_on_the_bus_is_detected_and_the_most_restrictive_is_applied(plant_fmu3, sock_dir, caplog):
     sc = scenario_from_dict(SHORT)
     channel = str(sock_dir / "can.sock")
     loop = ClosedLoop(sc, plant_fmu3, "tightening", ecu=EcuOptions(mode="attach", channel=channel))
@@ -148,7 +148,10 @@ def test_a_second_ecu_on_the_bus_is_detected_and_not_obeyed(plant_fmu3, sock_dir
     assert any("second ECU" in r.getMessage() for r in caplog.records)
     after = [row for row in rec.rows if row[0] >= second[0].t_s]
     assert {row[6] for row in after} == {"SECOND_ECU"}
-    assert all(row[4] == 1.0 and row[5] == 0.0 for row in after[1:])  # driver only (full throttle)
+    # issue 25: not driver only, the most restrictive of the two: each ECU sees the other's SafetyOverride,
+    # raises FaultForeignOverride and limits the throttle to 0, and the gateway applies that limit
+    assert "ecu_security_fault" in {e.kind for e in rec.events}
+    assert all(row[4] == 0.0 for row in after[2:]), [row[4] for row in after[:5]]
     assert not [e for e in rec.events if e.kind == "override_restored"]
 
 

@@ -26,8 +26,10 @@ LINKS = {
     "virtual": {"interface": "virtual"},
     "process": {"mode": "process"},
 }
-#: what only the lock-step adds to the log: SimClock and its SecOC authenticator
-_CLOCK_IDS = {LAYOUTS["SimClock"].frame_id, AUTHENTICATORS["SimClock"]}
+#: what only the lock-step adds to the log: SimClock and its SecOC authenticator, and (issue 25) the
+#: ECU process's announcement of what it runs, EcuIdentity and its authenticator
+_CLOCK_IDS = {LAYOUTS["SimClock"].frame_id, AUTHENTICATORS["SimClock"],
+              LAYOUTS["EcuIdentity"].frame_id, AUTHENTICATORS["EcuIdentity"]}
 
 
 @pytest.fixture(scope="module")
@@ -52,8 +54,8 @@ def test_paper_run_is_identical_over_every_link(plant_fmu3, strategy, key_file):
         other = _outcome(run_scenario(sc, plant_fmu3, strategy, ecu=links[name]))
         assert other[0] == reference[0], name
         assert other[1] == reference[1], name
-        # the lock-step adds one SimClock (and its authenticator) per cycle to the log; everything
-        # else matches frame for frame
+        # the lock-step adds one SimClock (and its authenticator) per cycle to the log, and the ECU
+        # process its EcuIdentity each second; everything else matches frame for frame
         frames = [f for f in other[2] if f.arbitration_id not in _CLOCK_IDS] if name == "process" else other[2]
         assert frames == reference[2], name
         assert other[3:] == reference[3:], name

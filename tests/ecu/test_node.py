@@ -115,4 +115,6 @@ def test_cli_runs_and_exits_cleanly_on_sigterm(tmp_path):
                 proc.kill()
                 proc.wait()
     assert proc.returncode == 0, err
-    assert out.startswith("ecu none: final mode FAULT; real-time:") and "cycles" in out
+    ready, summary = out.strip().splitlines()  # issue 25: a ready line first, then the summary
+    assert ready.startswith("ecu ready on virtual cli-test: strategy none")
+    assert summary.startswith("ecu none: final mode FAULT; real-time:") and "cycles" in summary

@@ -1,0 +1,129 @@
+"""What logging costs a run (issue 25, item 5): ``crd run`` with its default logs against the loop alone.
+
+Run: ``python benchmarks/bench_logging.py [--repeat N] [--strategy S ...] [--with-report]``.
+
+Alternating, ``--repeat`` rounds (default 7), in this one process, the paper scenario for
+each strategy (which of the two goes first alternates from round to round):
+
+* **loop only**: :func:`bench_cosim.closed_loop_s`, the figure ``bench_cosim.py`` reports
+  (no output directory: the record stays in memory);
+* **crd run**: what ``crd run paper_cyclist --strategy S --out DIR`` does for its run
+  (:func:`cosim.loop.experiment._run_one`: the default logs ``can.blf`` and
+  ``timeseries.csv`` streamed while the run goes, then ``events.json``), in the same
+  process, right before or after it.
+
+Printed per strategy (medians over the rounds, min..max):
+
+* ``x real``: simulated s / wall s. For ``crd run`` the wall time is its ``metrics.json``'s
+  ``wall_time_s`` (the issue's figure);
+* ``ratio (metrics)``: crd run's ``x real`` / the loop's. Goal: >= 0.9;
+* ``ratio (to logs closed)``: the same, over the whole call each (the plant loaded, the run,
+  and for crd run every log written and closed): logging that finishes after the loop is
+  charged too;
+* ``ratio (CPU time)``: the same over the CPU time of this process (all its threads): what the
+  logging costs in all, wherever it runs; a shared machine disturbs it less than the wall time;
+* ``--with-report``: also ``run_strategies`` (report, plots, ``metrics.json``, config) over
+  the loop's whole call, for information: the plots are a fixed cost of about a second.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from bench_cosim import _spread, closed_loop_s  # noqa: E402 - the loop-only figure, as bench_cosim measures it
+
+from cosim.cli.paper import PAPER_SCENARIO  # noqa: E402
+from cosim.loop.experiment import _run_one, resolve_fmu, run_strategies  # noqa: E402
+from cosim.results.can_logs import check_can_logs  # noqa: E402
+from cosim.scenarios.loader import load_scenario  # noqa: E402
+
+STRATEGIES = ("none", "conservative", "tightening")
+
+
+def loop_only(sc, fmu: Path, strategy: str) -> tuple[float, float, float]:
+    """x real of the loop alone: over the run's wall time, over the whole call's wall time and its CPU time."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    sim_s, wall_s, _cpu_s = closed_loop_s(sc, fmu, strategy, "crd_inproc")
+    return sim_s / wall_s, sim_s / (time.perf_counter() - t0), sim_s / (time.process_time() - c0)
+
+
+def crd_run(sc, fmu: Path, strategy: str, out: Path) -> tuple[float, float, float]:
+    """x real of crd run's run with the default logs: by metrics.json's wall_time_s, over the whole
+    call's wall time and over its CPU time (every thread of this process)."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    record = _run_one(sc, fmu, strategy, out, check_can_logs([]), None, None, plot=False)
+    total_s, cpu_s = time.perf_counter() - t0, time.process_time() - c0
+    m = record.metrics
+    return m.sim_time_s / m.wall_time_s, m.sim_time_s / total_s, m.sim_time_s / cpu_s
+
+
+def whole_command(sc, strategy: str, out: Path) -> float:
+    """x real over ``run_strategies`` (the run, its logs, metrics, report and plots), wall time."""
+    t0 = time.perf_counter()
+    record = run_strategies(sc, [strategy], out)[0]
+    return record.metrics.sim_time_s / (time.perf_counter() - t0)
+
+
+def one_round(sc, fmu: Path, strategies, figures: dict, with_report: bool, loop_first: bool) -> None:
+    """Each strategy's loop alone and crd run, one right after the other (which goes first alternates)."""
+    for strategy in strategies:
+        with tempfile.TemporaryDirectory() as tmp:
+            if loop_first:
+                loop_x, loop_total_x, loop_cpu_x = loop_only(sc, fmu, strategy)
+            run_x, run_total_x, run_cpu_x = crd_run(sc, fmu, strategy, Path(tmp) / "run")
+            if not loop_first:
+                loop_x, loop_total_x, loop_cpu_x = loop_only(sc, fmu, strategy)
+            figures.setdefault((strategy, "loop"), []).append(loop_x)
+            figures.setdefault((strategy, "run"), []).append(run_x)
+            figures.setdefault((strategy, "ratio"), []).append(run_x / loop_x)
+            figures.setdefault((strategy, "ratio closed"), []).append(run_total_x / loop_total_x)
+            figures.setdefault((strategy, "ratio cpu"), []).append(run_cpu_x / loop_cpu_x)
+            if with_report:
+                command_x = whole_command(sc, strategy, Path(tmp) / "command")
+                figures.setdefault((strategy, "ratio command"), []).append(command_x / loop_total_x)
+
+
+def report(figures: dict, strategies, rounds: int, with_report: bool) -> None:
+    columns = [("loop x real", "loop", "{:.0f}"), ("crd run x real", "run", "{:.0f}"),
+               ("ratio (metrics)", "ratio", "{:.3f}"), ("ratio (to logs closed)", "ratio closed", "{:.3f}"),
+               ("ratio (CPU time)", "ratio cpu", "{:.3f}")]
+    if with_report:
+        columns.append(("ratio (with report)", "ratio command", "{:.3f}"))
+    print(f"medians over {rounds} alternating rounds (min..max); crd run = the default logs (can.blf, timeseries.csv, "
+          "events.json)")
+    print(f"{'strategy':<13}" + "".join(f"{title:>26}" for title, _, _ in columns))
+    for s in strategies:
+        print(f"{s:<13}" + "".join(f"{_spread(figures[(s, key)], fmt):>26}" for _, key, fmt in columns))
+    worst = min(strategies, key=lambda s: statistics.median(figures[(s, "ratio")]))
+    print(f"lowest ratio ({worst}): crd run / loop only = {statistics.median(figures[(worst, 'ratio')]):.3f} by "
+          f"metrics.json's wall time, {statistics.median(figures[(worst, 'ratio closed')]):.3f} to the logs closed, "
+          f"{statistics.median(figures[(worst, 'ratio cpu')]):.3f} over CPU time (goal >= 0.9)")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=7, help="alternating rounds; medians are reported")
+    parser.add_argument("--strategy", action="append", choices=STRATEGIES, help="default: all three")
+    parser.add_argument("--with-report", action="store_true", help="also time run_strategies (report and plots)")
+    args = parser.parse_args()
+    strategies = args.strategy or STRATEGIES
+    sc = load_scenario(PAPER_SCENARIO)
+    fmu = resolve_fmu(sc)
+    with tempfile.TemporaryDirectory() as tmp:  # warm up: imports, the FMU's first load, the writers
+        loop_only(sc, fmu, "none")
+        crd_run(sc, fmu, "none", Path(tmp) / "warm")
+    figures: dict = {}
+    for round_ in range(max(1, args.repeat)):
+        one_round(sc, fmu, strategies, figures, args.with_report, loop_first=round_ % 2 == 0)
+    report(figures, strategies, max(1, args.repeat), args.with_report)
+
+
+if __name__ == "__main__":
+    main()
