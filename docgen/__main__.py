@@ -117,7 +117,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     timings: dict[str, float] = {}
     try:
-        stale = regenerate(args.check, args.fast, timings=timings)
+        stale = regenerate(args.check, args.fast, root=ROOT, timings=timings)
     except (MarkerError, BlockError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

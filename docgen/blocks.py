@@ -54,6 +54,25 @@ def _command_output(args: tuple[str, ...], runs: Runs) -> str:
     return "\n".join(["```text", f"$ crd {' '.join(args)}", text.rstrip(), "```"])
 
 
+def _script_output(args: tuple[str, ...], runs: Runs) -> str:
+    """What a repository script (``python PATH``) prints, run in this process; the script must print
+    nothing that depends on the machine (no wall times)."""
+    import runpy
+    import sys
+
+    if len(args) != 1:
+        raise ValueError(f"expected one script path, got {list(args)}")
+    path = ROOT / args[0]
+    out = io.StringIO()
+    sys.path.insert(0, str(path.parent))  # the script's own directory, as `python PATH` has it
+    try:
+        with contextlib.redirect_stdout(out):
+            runpy.run_path(str(path), run_name="__main__")
+    finally:
+        sys.path.remove(str(path.parent))
+    return out.getvalue().rstrip()
+
+
 def _sweep_typo(args: tuple[str, ...], runs: Runs) -> str:
     """``crd sweep bad.toml`` on a copy of a bundled sweep with its first axis path misspelt."""
     from cosim.sweep.spec import bundled_sweeps
@@ -66,6 +85,17 @@ def _sweep_typo(args: tuple[str, ...], runs: Runs) -> str:
         (Path(tmp) / "bad.toml").write_text(bad)
         code, out = crd_output(["sweep", "bad.toml"], cwd=Path(tmp))
     return "\n".join(["```text", "$ crd sweep bad.toml", out.rstrip(), f"$ echo $?\n{code}", "```"])
+
+
+def _scenarios_table() -> str:
+    """The bundled scenarios: name, what its leading comment says it is, and the command that runs it."""
+    from cosim.cli.scenarios import bundled_scenarios, description
+
+    lines = ["| scenario | what it is | run it |", "|---|---|---|"]
+    for path in bundled_scenarios():
+        text = description(path).replace("|", "\\|")
+        lines.append(f"| `{path.stem}` | {text} | `crd run {path.stem}` |")
+    return "\n".join(lines)
 
 
 def _fixed(render: Callable[[], str]) -> Callable[[tuple[str, ...], Runs], str]:
@@ -84,7 +114,9 @@ BLOCKS: dict[str, Generator] = {
     "can-messages": Generator(_fixed(can_contract.message_table), "the DBC's messages"),
     "can-signals": Generator(_fixed(can_contract.signal_tables), "every message's signals"),
     "can-fault-bits": Generator(_fixed(can_contract.fault_bits), "EcuStatus's fault bits"),
+    "scenarios-table": Generator(_fixed(_scenarios_table), "the bundled scenarios and how to run them"),
     "command": Generator(_command_output, "`crd ARGS` and its output (a command that runs no simulation)"),
+    "script": Generator(_script_output, "PATH: what `python PATH` prints (a deterministic script)", True),
     "sweep-typo": Generator(_sweep_typo, "SWEEP PATH TYPO: the error of a sweep file with a misspelt key path"),
     "paper-table": Generator(results.paper_table, "crd paper's table and claims ([adaptive])", True),
     "sweep-rates": Generator(results.sweep_rates, "NAME: a bundled sweep's rates per strategy", True),

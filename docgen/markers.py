@@ -1,7 +1,7 @@
 """Generated blocks in Markdown files: find them, fill them, tell which are stale.
 
-A generated block sits between two HTML comments, which neither GitHub nor
-MkDocs shows::
+A generated block sits between two HTML comments, each on a line of its own,
+which neither GitHub nor MkDocs shows::
 
     <!-- generated: NAME [ARG ...] -->
     ...text that docgen writes...
@@ -22,8 +22,8 @@ from typing import Callable, Iterator
 
 BEGIN = "<!-- generated: {spec} -->"
 END = "<!-- end generated -->"
-_BLOCK = re.compile(r"<!-- generated: (?P<spec>[^>]*?) -->\n(?P<body>.*?)<!-- end generated -->", re.S)
-_STRAY = re.compile(r"<!-- (end )?generated")
+_BLOCK = re.compile(r"^<!-- generated: (?P<spec>[^>\n]*?) -->\n(?P<body>.*?)^<!-- end generated -->$", re.S | re.M)
+_STRAY = re.compile(r"^<!-- (end )?generated", re.M)
 
 
 class MarkerError(ValueError):
@@ -75,7 +75,9 @@ def fill(text: str, render: Callable[[Block], str], where: str = "<text>") -> st
     def replace(m: re.Match) -> str:
         words = m.group("spec").split()
         block = Block(words[0], tuple(words[1:]), m.group("body"), _line(text, m.start()))
-        body = render(block).rstrip("\n") + "\n"
+        body = render(block)
+        if body != block.body:  # a renderer that keeps the body (docgen --fast) leaves it byte for byte
+            body = body.rstrip("\n") + "\n"
         return f"{BEGIN.format(spec=block.spec)}\n{body}{END}"
 
     return _BLOCK.sub(replace, text)
