@@ -84,6 +84,7 @@ def _sweep_typo(args: tuple[str, ...], runs: Runs) -> str:
     with tempfile.TemporaryDirectory(prefix="crd-docgen-") as tmp:
         (Path(tmp) / "bad.toml").write_text(bad)
         code, out = crd_output(["sweep", "bad.toml"], cwd=Path(tmp))
+        out = out.replace(f"{Path(tmp).resolve()}/", "").replace(f"{tmp}/", "")  # as the user typed it
     return "\n".join(["```text", "$ crd sweep bad.toml", out.rstrip(), f"$ echo $?\n{code}", "```"])
 
 
