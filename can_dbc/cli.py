@@ -2,7 +2,8 @@
 
 ``crd dbc show`` prints every message with its ID, sender, cycle time and
 signals (unit, range, resolution, enumeration labels). ``crd dbc decode LOG``
-reads a BLF/ASC/CSV log with python-can's readers and prints each frame after
+reads a log in any format python-can reads (:data:`LOG_SUFFIXES`: BLF, ASC,
+TRC, candump ``.log``, CSV, SQLite, and MF4 with ``crd[mdf]``) and prints each frame after
 the contract's checks, with rejected frames named by their error. SecOC
 authenticator frames are verified with ``--key-file``; without it their freshness
 and MAC are printed unverified (a run's fresh per-run key is never stored).
@@ -15,6 +16,7 @@ from __future__ import annotations
 import argparse
 
 import can
+from can.io.player import MESSAGE_READERS
 
 from .database import AUTHENTICATORS, DATABASE, LAYOUTS
 from .errors import FrameError
@@ -23,6 +25,8 @@ from .receiver import Receiver
 from .secoc import SecOcVerifier, load_key_file
 
 _AUTH_NAMES = {fid: name + "Auth" for name, fid in AUTHENTICATORS.items()}
+#: the log suffixes ``crd dbc decode`` reads: python-can's readers, the same table ``can.LogReader`` picks from
+LOG_SUFFIXES = tuple(sorted(MESSAGE_READERS))
 
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
@@ -31,7 +35,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     sub.required = True
     show = sub.add_parser("show", help="list messages and signals of the DBC")
     show.set_defaults(func=_do_show)
-    decode = sub.add_parser("decode", help="decode a CAN log (.blf, .asc, .csv) with E2E checks")
+    decode = sub.add_parser("decode", help=f"decode a CAN log ({', '.join(LOG_SUFFIXES)}) with E2E checks")
     decode.add_argument("log", help="log file; the format follows its suffix")
     decode.add_argument("--limit", type=int, default=0, help="stop after this many frames (0: all)")
     decode.add_argument("--key-file", help="SecOC key file: verify the authenticator frames")

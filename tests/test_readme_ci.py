@@ -23,3 +23,16 @@ def test_ci_runs_the_readme_test_command():
     test_command = _quick_start_commands()[1]
     ci_lines = (ROOT / ".ci" / "run").read_text().splitlines()
     assert test_command in ci_lines
+
+
+def test_readme_is_short_and_states_its_limits_before_the_quick_start():
+    text = (ROOT / "README.md").read_text()
+    assert len(text.splitlines()) <= 200
+    assert text.index("## Limits") < text.index("## Quick start")
+
+
+def test_ci_builds_the_documentation_site_strictly_after_the_tests():
+    ci_lines = (ROOT / ".ci" / "run").read_text().splitlines()
+    build = next(i for i, line in enumerate(ci_lines) if "mkdocs build --strict" in line)
+    assert build > ci_lines.index(_quick_start_commands()[1])
+    assert "strict: true" in (ROOT / "mkdocs.yml").read_text()

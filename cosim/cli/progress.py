@@ -39,14 +39,16 @@ def _fmt(x, spec: str) -> str:
     return "-" if x is None else format(x, spec)
 
 
-def results_table(records: list[RunRecord]) -> str:
+def results_table(records: list[RunRecord], wall: bool = True) -> str:
+    """The closing table of ``crd run``/``crd paper``; ``wall=False`` leaves out the one machine-dependent
+    column, the wall time (for the documentation's copy)."""
     head = f"{'strategy':<13} {'collided':>8} {'impact m/s':>10} {'min gap m':>9} {'final gap m':>11} " \
-           f"{'conting.':>8} {'max v m/s':>9} {'sim s':>6} {'wall s':>6}"
+           f"{'conting.':>8} {'max v m/s':>9} {'sim s':>6}" + (f" {'wall s':>6}" if wall else "")
     lines = [head, "-" * len(head)]
     for r in records:
         m = r.metrics
         lines.append(f"{m.strategy:<13} {str(m.collided):>8} {_fmt(m.impact_speed_mps, '10.2f')} "
                      f"{_fmt(m.min_gap_m, '9.2f')} {_fmt(m.final_gap_m, '11.2f')} {m.contingency_invocations:>8d} "
-                     f"{m.max_speed_mps:9.2f} {m.sim_time_s:6.2f} {m.wall_time_s:6.2f}"
+                     f"{m.max_speed_mps:9.2f} {m.sim_time_s:6.2f}" + (f" {m.wall_time_s:6.2f}" if wall else "")
                      + (f"  ERROR: {r.error}" if r.error else ""))
     return "\n".join(lines)

@@ -51,12 +51,11 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _do_scenarios(args: argparse.Namespace) -> int:  # noqa: ARG001 - no options
-    print(f"{'name':<18} {'duration':>8}  {'strategy':<12} object")
+    print(f"{'name':<18} {'duration':>8}  {'strategy':<12} objects")
     for path in bundled_scenarios():
         sc = load_scenario(path)
-        obj = sc.object
-        where = f"{obj.position_m:g} m ahead, {obj.speed_mps:g} m/s" if obj.enabled else "none"
-        print(f"{path.stem:<18} {sc.scenario.duration_s:>6g} s  {sc.ecu.strategy:<12} {where}")
+        where = "; ".join(f"{o.name} {o.position_m:g} m ahead, {o.speed_mps:g} m/s" for o in sc.scene_objects())
+        print(f"{path.stem:<18} {sc.scenario.duration_s:>6g} s  {sc.ecu.strategy:<12} {where or 'none'}")
         print(f"    {description(path)}")
     print(f"\nfiles in {BUNDLED_DIR}; run one with: crd run NAME [--strategy S] [--out DIR]")
     return 0

@@ -22,6 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from .catalogue import Catalogue  # noqa: E402
 from .scoring import Scoring  # noqa: E402
 from .scorings import scoring_named  # noqa: E402
+from .scorings.ncap import NCAP_BANDS, RED  # noqa: E402
 
 CSV_COLUMNS = ("catalogue", "scoring", "cell", "group", "test_speed_kmh", "target_speed_kmh", "road_friction",
                "strategy", "phases", "collided", "impact_kmh", "max_impact_kmh", "colour", "score", "interventions",
@@ -88,10 +89,24 @@ def band_grid(path: Path, cat: Catalogue, rows: Sequence[Mapping[str, Any]]) -> 
     ax.set_xticks([j + 0.5 for j in range(len(cells))], cells, rotation=90, fontsize=7)
     ax.set_yticks([i + 0.45 for i in range(len(strategies))], strategies)
     ax.set_title(f"{cat.title}: colour bands", fontsize=9)
+    ax.legend(handles=band_legend(), loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7,
+              title="relative impact", title_fontsize=7, frameon=False)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return path.name
+
+
+def band_legend() -> list:
+    """One patch per Euro NCAP colour band, labelled with its range of relative impact speed."""
+    from matplotlib.patches import Patch
+
+    labels, low = [], 0.0
+    for edge, colour, _ in NCAP_BANDS:
+        labels.append((colour, "no contact" if edge == 0.0 else f"{low:g}-{edge:g} km/h"))
+        low = edge
+    labels.append((RED[0], f"> {low:g} km/h"))
+    return [Patch(color=COLOURS[colour], label=f"{colour}: {text}") for colour, text in labels]
 
 
 #: report figure name (a scoring's ``plots``) -> the function that draws it
@@ -117,7 +132,8 @@ def cell_table(cat: Catalogue, rows: Sequence[Mapping[str, Any]]) -> list[str]:
 
 
 def summary_lines(catalogues: Sequence[Catalogue], rows: Sequence[Mapping[str, Any]]) -> list[str]:
-    """Per catalogue and strategy: requirements passed, and the NCAP points."""
+    """Per catalogue and strategy: the cells whose requirement is met, what the scoring adds (the NCAP
+    bands and points, the interventions), and the failed cells."""
     lines = []
     for cat in catalogues:
         cat_rows = [r for r in rows if r["catalogue"] == cat.name]
@@ -125,7 +141,7 @@ def summary_lines(catalogues: Sequence[Catalogue], rows: Sequence[Mapping[str, A
         for s in dict.fromkeys(r["strategy"] for r in cat_rows):
             mine = [r for r in cat_rows if r["strategy"] == s]
             failed = [r["cell"] for r in mine if not r["passed"]]
-            text = f"{cat.name:<16} {s:<13} {len(mine) - len(failed):>3}/{len(mine):<3} pass"
+            text = f"{cat.name:<16} {s:<13} {len(mine) - len(failed):>3}/{len(mine):<3} requirements met"
             text += scoring.summary(mine, cat.scoring_table)
             if failed:
                 text += "  FAIL: " + ", ".join(failed[:6]) + (" ..." if len(failed) > 6 else "")
@@ -141,7 +157,8 @@ def report_text(catalogues: Sequence[Catalogue], rows: Sequence[Mapping[str, Any
              f"crd {meta['version']}.", "", "## Summary", "", "```", *summary_lines(catalogues, rows), "```", ""]
     for cat in catalogues:
         cat_rows = [r for r in rows if r["catalogue"] == cat.name]
-        lines += [f"## {cat.title} (`{cat.name}`, scoring `{cat.scoring}`)", ""]
+        lines += [f"## {cat.title} (`{cat.name}`, scoring `{cat.scoring}`)", "",
+                  f"How to read a cell: {scoring_named(cat.scoring).rule}", ""]
         lines += cell_table(cat, cat_rows) + [""]
         lines += [f"![{name}]({name})" for name in figures.get(cat.name, [])] + [""]
         lines += ["Sources:", ""] + [f"- `{k}`: {v}" for k, v in cat.sources.items()] + [""]

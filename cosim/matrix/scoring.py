@@ -64,6 +64,7 @@ class Scoring(Protocol):
     table: ClassVar[type]  #: the declared ``[scoring]`` table of a catalogue (ecu.settings)
     plots: ClassVar[tuple[str, ...]]  #: report figures: "impact" (against test speed), "bands" (colour grid)
     limit_header: ClassVar[str]  #: an extra column of the report's cell table ("": none)
+    rule: ClassVar[str]  #: how to read a cell: what PASS/FAIL (or the band) means, for the report's legend
     required_keys: ClassVar[tuple[str, ...]]  #: cell keys every series of such a catalogue must give
 
     def score(self, params: Mapping[str, Any], o: Outcome) -> dict[str, Any]:
@@ -73,7 +74,8 @@ class Scoring(Protocol):
         """Cell values the result row carries for this protocol (before the verdict)."""
 
     def cell_text(self, row: Mapping[str, Any]) -> str:
-        """A row's cell in the report's table (an error is shown by the caller)."""
+        """A row's cell in the report's table, verdict first, then the figure and its margin to the
+        requirement (an error is shown by the caller)."""
 
     def limit_text(self, row: Mapping[str, Any]) -> str:
         """The row's entry in the ``limit_header`` column."""
@@ -98,10 +100,18 @@ class ScoringDefaults:
         return ""
 
 
-def impact_text(row: Mapping[str, Any]) -> str:
-    """The relative impact speed in km/h, ``0`` without contact."""
-    return f"{row['impact_kmh']:.1f}" if row["collided"] else "0"
+def verdict_mark(row: Mapping[str, Any]) -> str:
+    """``PASS`` or ``**FAIL**`` (bold, so that a failed cell stands out in a table)."""
+    return "PASS" if row["passed"] else "**FAIL**"
 
 
-def fail_mark(row: Mapping[str, Any]) -> str:
-    return "" if row["passed"] else " **FAIL**"
+def no_contact_text(row: Mapping[str, Any]) -> str:
+    """``no contact (min gap 2.6 m)``: the gap is the margin of a cell without contact."""
+    gap = row.get("min_gap_m")
+    return "no contact" + ("" if gap is None else f" (min gap {gap:.1f} m)")
+
+
+def margin_text(value: float, limit: float, unit: str) -> str:
+    """``27.1 under 35`` / ``7.5 over 0``: how far ``value`` is from ``limit``, and on which side."""
+    side = "under" if value <= limit else "over"
+    return f"{abs(limit - value):.1f} {side} {limit:g} {unit}"

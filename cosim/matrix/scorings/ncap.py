@@ -15,7 +15,7 @@ from typing import Any, Iterable, Mapping, Sequence
 
 from ecu.settings import Range, setting
 
-from ..scoring import Outcome, ScoringDefaults, fail_mark, impact_text
+from ..scoring import Outcome, ScoringDefaults, margin_text, no_contact_text
 
 #: (upper edge of relative impact speed in km/h, colour, sub-score); above the last edge: red.
 NCAP_BANDS: tuple[tuple[float, str, float], ...] = (
@@ -59,6 +59,10 @@ class Ncap(ScoringDefaults):
     name = "ncap"
     table = NcapTable
     plots = ("impact", "bands")
+    rule = ("The colour band of the relative impact speed: green no contact, yellow up to 10 km/h, orange up "
+            "to 20, brown up to 30, red above 30; the margin is the distance to the band's upper edge. FAIL "
+            "only where the protocol requires avoidance (CCRs up to 20 km/h); the other cells have no "
+            "pass mark, only points.")
 
     def score(self, params: Mapping[str, Any], o: Outcome) -> dict[str, Any]:
         colour, score = ncap_colour(o.impact_kmh, o.collided)
@@ -69,7 +73,14 @@ class Ncap(ScoringDefaults):
                 "verdict": colour if ok else f"FAIL ({colour}; avoidance required)"}
 
     def cell_text(self, row: Mapping[str, Any]) -> str:
-        return f"{impact_text(row)} {row['colour']}" + fail_mark(row)
+        """``green no contact (min gap 1.2 m)`` / ``yellow 5.7 km/h (4.3 under 10 km/h)`` / ``red 39.7 km/h
+        (9.7 over 30 km/h)``; ``**FAIL** (avoidance required)`` first where the cell requires avoidance."""
+        fail = "" if row["passed"] else "**FAIL** (avoidance required) "
+        if not row["collided"]:
+            return f"{fail}{row['colour']} {no_contact_text(row)}"
+        impact = row["impact_kmh"]
+        edge = next((e for e, colour, _ in NCAP_BANDS[1:] if colour == row["colour"]), NCAP_BANDS[-1][0])
+        return f"{fail}{row['colour']} {impact:.1f} km/h ({margin_text(impact, edge, 'km/h')})"
 
     def summary(self, rows: Sequence[Mapping[str, Any]], table: NcapTable) -> str:
         """``NCAP total/max pts (per group)`` of one strategy's rows."""
@@ -77,7 +88,9 @@ class Ncap(ScoringDefaults):
         if not by_strategy:
             return ""
         (p,) = by_strategy.values()
-        return f"  NCAP {p['total']:.2f}/{sum(table.points.values()):.1f} pts (" + \
+        bands = [colour for _, colour, _ in NCAP_BANDS] + [RED[0]]
+        counts = ", ".join(f"{sum(r.get('colour') == c for r in rows)} {c}" for c in bands)
+        return f"  bands: {counts}  NCAP {p['total']:.2f}/{sum(table.points.values()):.1f} pts (" + \
             ", ".join(f"{g} {v:.2f}" for g, v in p.items() if g != "total") + ")"
 
 
