@@ -200,7 +200,7 @@ def _series_plots(out_dir: Path, scenario: Scenario, strategies: Sequence[str]) 
     obj = scenario.object
     paper = set(paper_claims.REQUIRED) <= set(strategies)
     return SeriesPlots(out_dir, obj.position_m if obj.enabled else None,
-                       paper_claims.SPLIT_POSITION_M if paper else None)
+                       paper_claims.SPLIT_POSITION_M if paper else None, obj.name)
 
 
 def _speed_profiles(out_dir: Path, scenario: Scenario, records: Sequence[RunRecord]) -> None:

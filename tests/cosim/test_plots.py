@@ -47,7 +47,7 @@ def test_collision_is_marked(records):
     assert hit.position_m == pytest.approx(OBJECT_M, abs=0.05)
     fig = timeline_figure(rec)
     marks = [line for ax in fig.axes for line in ax.get_lines() if list(line.get_xdata()) == [hit.t_s] * 2]
-    assert len(marks) == 4  # a vertical line through every panel
+    assert len(marks) == len(fig.axes) == 5  # a vertical line through every panel
     assert fig.axes[-1].get_xlim()[1] > hit.t_s  # and not on the frame
     profiles = profile_figure([Profile(s, r) for s, r in records.items()], OBJECT_M, "t")
     labels = [line.get_label() for line in profiles.axes[0].get_lines()]
