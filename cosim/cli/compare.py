@@ -2,8 +2,9 @@
 
 Prints, for each pair of runs, every metric of run A and run B and B − A
 (runs pair by strategy; two directories of one run each pair those runs,
-whatever their strategies; nothing paired is an error), then writes ``speed_profiles.png`` under ``--out`` with both runs'
-profiles overlaid (colour: strategy; line style: run).
+whatever their strategies; nothing paired is an error), then writes
+``speed_profiles.png`` under ``--out`` with both runs' profiles overlaid
+(colour: strategy; line style: run).
 """
 
 from __future__ import annotations
@@ -11,7 +12,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..results.compare import differences, load_run_dir
+from ..results.compare import differences
+from ..results.run_dir import load_run_dir
 
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:

@@ -3,22 +3,16 @@
 Runs pair by strategy, except that two directories of one run each pair those two runs
 (:func:`paired`); when nothing pairs, :func:`differences` says so instead of a verdict.
 
-A run directory is what ``--out`` holds: ``metrics.json``, ``config.resolved.toml``
-and per strategy ``timeseries.csv`` and ``events.json``. Differences are rounded
+The directories are read by :mod:`cosim.results.run_dir`. Differences are rounded
 as in ``report.md`` (:mod:`cosim.results.report`).
 """
 
 from __future__ import annotations
 
-import csv
-import json
-import tomllib
-from dataclasses import dataclass
-from pathlib import Path
-
 from ..errors import ConfigError
 from .report import fmt
-from .run_record import TIMESERIES_COLUMNS, RunEvent, RunMetrics, RunRecord
+from .run_dir import RunDir
+from .run_record import RunRecord
 
 #: metric key -> (label, decimals; None for a yes/no)
 METRICS = {
@@ -31,50 +25,6 @@ METRICS = {
     "sim_time_s": ("simulated time (s)", 2),
     "wall_time_s": ("wall time (s)", 2),
 }
-
-
-@dataclass(frozen=True)
-class RunDir:
-    """A written run: its records (time series, events, metrics), the object's position (m) and name."""
-
-    path: Path
-    records: list[RunRecord]
-    object_position_m: float | None
-    object_name: str = "object"
-
-
-def _row(values: dict[str, str]) -> tuple:
-    return tuple(values[c] if c == "ecu_mode" else float(values[c]) for c in TIMESERIES_COLUMNS)
-
-
-def _record(run_dir: Path, entry: dict) -> RunRecord:
-    strategy = entry["strategy"]
-    metrics = RunMetrics(**{k: entry[k] for k in RunMetrics.__dataclass_fields__ if k in entry})
-    record = RunRecord(strategy, metrics, error=entry.get("error"))
-    series = run_dir / strategy / "timeseries.csv"
-    if series.is_file():
-        with open(series, newline="") as handle:
-            record.rows = [_row(values) for values in csv.DictReader(handle)]
-    events = run_dir / strategy / "events.json"
-    if events.is_file():
-        record.events = [RunEvent(e["t_s"], e["kind"], e["detail"])
-                         for e in json.loads(events.read_text())["events"]]
-    return record
-
-
-def load_run_dir(path: Path) -> RunDir:
-    """Read a run directory; a missing ``metrics.json`` is a :class:`ConfigError` naming it."""
-    metrics = path / "metrics.json"
-    if not metrics.is_file():
-        raise ConfigError(f"{path}: not a crd run directory (expected {metrics.name} from crd run/paper --out)")
-    runs = json.loads(metrics.read_text())["runs"]
-    obj, name = None, "object"
-    config = path / "config.resolved.toml"
-    if config.is_file():
-        table = tomllib.loads(config.read_text()).get("object", {})
-        obj = table.get("position_m") if table.get("enabled", True) else None
-        name = table.get("name", name)
-    return RunDir(path, [_record(path, entry) for entry in runs], obj, name)
 
 
 def _value(key: str, value) -> str:
