@@ -80,9 +80,11 @@ def read_run(run: RunDir, strategy: str | None) -> RunFiles:
 def _metadata(run: RunDir, files: RunFiles) -> dict[str, str]:
     """The ``crd`` metadata record: strings only, nothing measured on the wall clock."""
     metrics = {k: v for k, v in files.record.metrics.as_dict().items() if k != "wall_time_s"}
-    provenance = json.loads((run.path / "metrics.json").read_text()).get("provenance", {})
+    written = json.loads((run.path / "metrics.json").read_text())
+    entry = next(e for e in written["runs"] if e["strategy"] == files.record.strategy)
+    provenance = written.get("provenance", {})
     return {"scenario": files.scenario.scenario.name, "strategy": files.record.strategy,
-            "status": files.record.status, "start_time": files.scenario.scenario.start_time,
+            "status": str(entry.get("status", "")), "start_time": files.scenario.scenario.start_time,
             "metrics": json.dumps(metrics, sort_keys=True), "fmu_sha256": str(provenance.get("fmu_sha256", "")),
             "crd_version": _version("crd")}
 
