@@ -45,7 +45,8 @@ def check_format(name: str, option: str) -> Format:
         raise ConfigError(f"{option}: expected one of {sorted(FORMATS)}, got {name!r}")
     missing = [m for m in fmt.needs if importlib.util.find_spec(m) is None]
     if missing:
-        raise ConfigError(f"{option}: the {name} format needs {', '.join(missing)}, which is not installed;"
+        verb = "is" if len(missing) == 1 else "are"
+        raise ConfigError(f"{option}: the {name} format needs {' and '.join(missing)}, which {verb} not installed;"
                           f" install the extra: pip install 'crd[{fmt.extra}]'")
     return fmt
 
