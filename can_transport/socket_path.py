@@ -5,7 +5,9 @@ or a filesystem path (anything with a ``/``). A name is a socket in the user's
 private directory, :func:`private_dir`: ``$XDG_RUNTIME_DIR/crd-can``, or
 ``$TMPDIR/crd-can-<uid>`` (``/tmp`` when ``TMPDIR`` is unset), created with
 mode 0700 and refused when it is a symbolic link, not a directory, not owned
-by this user, or open to others.
+by this user, or open to others. It is removed again when the last socket
+or lock file in it goes (:func:`release_private_dir`), so a named channel
+leaves nothing behind once its processes have closed their buses.
 
 What the transports refuse, whatever the channel (each a
 ``can.CanInitializationError`` that names the path):
@@ -49,20 +51,40 @@ _NAME = re.compile(r"[A-Za-z0-9_-][A-Za-z0-9._-]*")
 _UCRED = struct.Struct("3i")  # struct ucred: pid, uid, gid
 
 
-def private_dir() -> str:
-    """The user's private channel directory (created 0700 if absent); refuse one others could use."""
+def private_dir_path() -> str:
+    """Where the user's private channel directory is (whether or not it exists)."""
     runtime = os.environ.get("XDG_RUNTIME_DIR")
     if runtime:
-        path = os.path.join(runtime, "crd-can")
-    else:
-        path = os.path.join(os.environ.get("TMPDIR") or "/tmp", f"crd-can-{os.getuid()}")
-    try:
-        os.mkdir(path, 0o700)
-    except FileExistsError:
-        pass
-    except OSError as exc:
-        raise can.CanInitializationError(f"cannot create the private channel directory {path}: {exc}") from exc
-    info = os.lstat(path)
+        return os.path.join(runtime, "crd-can")
+    return os.path.join(os.environ.get("TMPDIR") or "/tmp", f"crd-can-{os.getuid()}")
+
+
+def release_private_dir(path: str) -> None:
+    """Remove the private channel directory that holds ``path`` if it is now empty (any other
+    directory, or one still in use, is left alone)."""
+    folder = os.path.dirname(path)
+    if folder == private_dir_path():
+        try:
+            os.rmdir(folder)
+        except OSError:
+            pass  # another channel's socket or lock is still in it
+
+
+def private_dir() -> str:
+    """The user's private channel directory (created 0700 if absent); refuse one others could use."""
+    path = private_dir_path()
+    info = None
+    while info is None:
+        try:
+            os.mkdir(path, 0o700)
+        except FileExistsError:
+            pass
+        except OSError as exc:
+            raise can.CanInitializationError(f"cannot create the private channel directory {path}: {exc}") from exc
+        try:
+            info = os.lstat(path)
+        except FileNotFoundError:
+            continue  # released by its last user just now (release_private_dir): made again
     problem = None
     if stat.S_ISLNK(info.st_mode) or not stat.S_ISDIR(info.st_mode):
         problem = "is not a directory (a symbolic link or a file)"
@@ -180,6 +202,7 @@ def unlink_if_ours(path: str, inode: int) -> None:
             os.unlink(path)
     except FileNotFoundError:
         pass
+    release_private_dir(path)
 
 
 @contextlib.contextmanager
@@ -190,6 +213,9 @@ def channel_lock(path: str) -> Iterator[None]:
         try:
             fd = os.open(lock_path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600)
         except OSError as exc:
+            if exc.errno == errno.ENOENT and os.path.dirname(path) == private_dir_path():
+                private_dir()  # released by its last user since resolve_channel made it: made again
+                continue
             reason = "it is a symbolic link" if exc.errno == errno.ELOOP else str(exc)
             raise can.CanInitializationError(f"refusing the lock file {lock_path}: {reason}") from exc
         try:
@@ -212,6 +238,7 @@ def channel_lock(path: str) -> Iterator[None]:
         except FileNotFoundError:
             pass
         os.close(fd)
+        release_private_dir(lock_path)
 
 
 def _same_file(path: str, held: os.stat_result) -> bool:

@@ -1,8 +1,10 @@
 """``crd compare DIR DIR [--out DIR]``: the metric differences of two runs and their speed profiles.
 
-Prints, per strategy both runs have, every metric of run A and run B and
-B − A, then writes ``speed_profiles.png`` under ``--out`` with both runs'
-profiles overlaid (colour: strategy; line style: run).
+Prints, for each pair of runs, every metric of run A and run B and B − A
+(runs pair by strategy; two directories of one run each pair those runs,
+whatever their strategies; nothing paired is an error), then writes
+``speed_profiles.png`` under ``--out`` with both runs' profiles overlaid
+(colour: strategy; line style: run).
 """
 
 from __future__ import annotations
@@ -10,7 +12,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..results.compare import differences, load_run_dir
+from ..results.compare import differences
+from ..results.run_dir import load_run_dir
 
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
@@ -32,7 +35,8 @@ def _do_compare(args: argparse.Namespace) -> int:
     png = args.out / "speed_profiles.png"
     same_object = a.object_position_m == b.object_position_m
     overlay_profiles(png, [("A", a.records), ("B", b.records)], a.object_position_m if same_object else None,
-                     title=f"A = {a.path} (solid), B = {b.path} (dashed)")
+                     title=f"A = {a.path.name or a.path} (solid), B = {b.path.name or b.path} (dashed)",
+                     object_name=a.object_name)
     if not same_object:
         where = ["none" if d.object_position_m is None else f"{d.object_position_m:g} m" for d in (a, b)]
         print(f"note: the runs' objects differ (A: {where[0]}, B: {where[1]}), so neither is drawn")

@@ -34,6 +34,7 @@ SUBCOMMANDS: dict[str, str] = {
     "matrix": "cosim.cli.matrix",
     "scenarios": "cosim.cli.scenarios",
     "compare": "cosim.cli.compare",
+    "export": "cosim.cli.export",
     "sweep": "cosim.cli.sweep",
 }
 

@@ -33,6 +33,7 @@ from ..results.can_logs import LOG_FORMATS
 from ..scenarios.config import STRATEGIES
 from ..scenarios.loader import load_scenario
 from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
+from .export import add_record_option, check_record, record_run
 from .progress import end_progress, progress_printer, results_table
 from .signals import interruptible
 from ..results.events import EXIT_FAULT_EVENT, unexpected_faults
@@ -50,6 +51,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
                    help="another CAN log besides can.blf; repeatable; the suffix picks the format"
                         f" ({', '.join(LOG_FORMATS)}; .mf4 needs crd[mdf])")
     add_ecu_arguments(p, realtime=True)
+    add_record_option(p)
     p.set_defaults(func=interruptible(_do_run))
 
 
@@ -57,10 +59,12 @@ def _do_run(args: argparse.Namespace) -> int:
     path = find_scenario(args.scenario)
     scenario = load_scenario(path)
     strategy = args.strategy or scenario.ecu.strategy
+    check_record(args)
     print(f"crd run {path} (strategy {strategy}) -> {args.out}", file=sys.stderr)
     records = run_strategies(scenario, [strategy], args.out, args.can_log, progress=progress_printer,
                               ecu=ecu_options(args))
     end_progress()
+    record_run(args)
     print(results_table(records))
     for line in timing_lines(records):
         print(line)

@@ -206,7 +206,7 @@ def _speed_profiles(out_dir: Path, scenario: Scenario, records: Sequence[RunReco
     obj = scenario.object
     paper = set(paper_claims.REQUIRED) <= {r.strategy for r in records}
     speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None,
-                   split_m=paper_claims.SPLIT_POSITION_M if paper else None)
+                   split_m=paper_claims.SPLIT_POSITION_M if paper else None, object_name=obj.name)
 
 
 def _preflight(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,

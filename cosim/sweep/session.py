@@ -1,9 +1,21 @@
-"""One sweep end to end: plan, run on Dask, write the table, draw the report."""
+"""One sweep end to end: plan, run on Dask, write the table, draw the report.
+
+Nothing is left outside ``out_dir``: the local cluster's files (Dask's
+``local_directory``: its ``dask-scratch-space`` of lock files and spilled data,
+and each worker's copy of the plant FMU, :class:`cosim.sweep.task.FmuShipper`)
+go to a temporary directory (``$TMPDIR/crd-sweep-*``) that is removed when the
+sweep ends, not to Dask's default ``$TMPDIR/dask-scratch-space``, which stays.
+Workers attached through ``--scheduler`` keep their own configuration.
+"""
 
 from __future__ import annotations
 
+import contextlib
+import tempfile
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator
+
+import dask
 
 from ..results.writer import package_version
 from ..world.plant_fmu import file_sha256
@@ -44,7 +56,19 @@ def run_sweep(spec: SweepSpec, out_dir: Path, opts: ClusterOptions, resume: bool
     plan = make_plan(spec)
     table = open_table(plan, out_dir)
     skip = table.resume({r.key: r.index for r in plan.runs}) if resume else set()
-    outcome = run_plan(plan, table, out_dir, opts, skip, keep_timeseries, progress, task)
+    with cluster_scratch(opts):
+        outcome = run_plan(plan, table, out_dir, opts, skip, keep_timeseries, progress, task)
     if report:
         write_report(out_dir)
     return plan, outcome
+
+
+@contextlib.contextmanager
+def cluster_scratch(opts: ClusterOptions) -> Iterator[Path | None]:
+    """A local cluster's ``temporary-directory``: a fresh ``$TMPDIR/crd-sweep-*``, removed on the way out
+    (None, and nothing set, for a scheduler given by address: its workers are configured where they run)."""
+    if opts.scheduler:
+        yield None
+        return
+    with tempfile.TemporaryDirectory(prefix="crd-sweep-") as tmp, dask.config.set({"temporary-directory": tmp}):
+        yield Path(tmp)

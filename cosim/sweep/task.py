@@ -77,8 +77,8 @@ class FmuShipper(WorkerPlugin):
         self.sha256 = sha256
         self.name = f"crd-fmu-{sha256[:16]}"
 
-    def setup(self, worker) -> None:
-        share_fmu(cached_fmu(self.sha256, self.data))
+    def setup(self, worker) -> None:  # in the worker's own directory, removed with it (cosim.sweep.session)
+        share_fmu(cached_fmu(self.sha256, self.data, Path(worker.local_directory) / "crd-fmu"))
 
     def teardown(self, worker) -> None:
         path = _FMU_PATHS.get(self.sha256)

@@ -12,6 +12,7 @@ import socket
 import subprocess
 import sys
 import functools
+import tempfile
 import time
 from pathlib import Path
 
@@ -109,10 +110,17 @@ def test_small_sweep_rows_and_values(small) -> None:
     assert (out / "maps" / "collision_rate__plant.road_friction__radar.latency_s.png").stat().st_size > 1000
 
 
-def test_same_table_with_two_workers(small, tmp_path) -> None:
+def test_same_table_with_two_workers_and_nothing_left_in_tmp(small, tmp_path, monkeypatch) -> None:
+    """The same table; and the cluster's scratch files (Dask's ``dask-scratch-space``, the workers'
+    FMU copies) are gone with it (issue 24: ``/tmp/dask-scratch-space`` stayed)."""
     sweep, out1 = small
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    monkeypatch.setenv("TMPDIR", str(scratch))  # the worker processes' temporary directory
+    monkeypatch.setattr(tempfile, "tempdir", str(scratch))  # this process's
     run_sweep(load_sweep(sweep), tmp_path / "w2", ClusterOptions(workers=2), report=False)
     assert _comparable(tmp_path / "w2" / "results.parquet") == _comparable(out1 / "results.parquet")
+    assert os.listdir(scratch) == []
 
 
 def _rows_in(path: Path) -> int:

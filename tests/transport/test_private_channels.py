@@ -138,3 +138,18 @@ def test_the_hub_backlog_is_bounded_and_drops_are_counted(channel: str) -> None:
     finally:
         hub.stop()
     assert 0 < hub.dropped_frames <= sent
+
+
+@pytest.mark.parametrize("bus_class", BUSES)
+def test_the_private_directory_goes_with_its_last_channel(bus_class, tmp_path, monkeypatch) -> None:
+    """Nothing is left behind once the buses are closed (issue 24: ``/tmp/crd-can-0`` stayed)."""
+    monkeypatch.setenv("XDG_RUNTIME_DIR", str(tmp_path))
+    private = tmp_path / "crd-can"
+    with bus_class("can0"):
+        with bus_class("can1"):
+            assert {"can0.sock", "can1.sock"} <= set(os.listdir(private))
+        assert os.listdir(private) == ["can0.sock"]  # kept while a channel is in it
+    assert not os.path.lexists(private)
+    with bus_class("can0") as bus:  # and made again when needed
+        assert bus.channel == str(private / "can0.sock") and stat.S_IMODE(os.lstat(private).st_mode) == 0o700
+    assert not os.path.lexists(private)
