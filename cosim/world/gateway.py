@@ -29,7 +29,7 @@ stays within the E2E tolerance), while two interleaved senders always do
 (their counters cannot both step by 1 to 2 modulo 15). When one sender
 remains, the ``override_restored`` event marks the return.
 
-What a conflict applies (issue 25; the safety argument is ``docs/security-model.md``):
+What a conflict applies (issue 25; the safety argument is ``docs/security.md``):
 two senders of one CAN message cannot be told apart, so the gateway does not
 pick one. While the override's sender is in doubt -- a second sender detected,
 or within ``CONFLICT_HOLD_S`` of a sign of one: a repeated or jumping counter,

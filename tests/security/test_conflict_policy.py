@@ -1,6 +1,6 @@
 """Issue 25, item 2: what the gateway applies while the sender of ``SafetyOverride`` is in doubt.
 
-The policy (``cosim/world/gateway.py``, argued in ``docs/security-model.md``): the most
+The policy (``cosim/world/gateway.py``, argued in ``docs/security.md``): the most
 restrictive demand of every structurally valid override of the last ``override_timeout_s``
 (lowest throttle limit, highest brake request). A forger's pass-through frame can
 therefore never release the genuine ECU's limit or braking; its braking frame is obeyed
@@ -52,7 +52,7 @@ def _forger_after_every_third(genuine_signals, forged_signals):
 
 #: the cycles in which the forger's pass-through is obeyed: none in lock-step (two overrides in a cycle prove
 #: a second sender at once); in real time the first forged frame's cycle, before anything marks it (the stated
-#: residual risk of docs/security-model.md), and none after it
+#: residual risk of docs/security.md), and none after it
 OBEYED = {1: [], 10: [2]}
 
 
