@@ -179,6 +179,11 @@ def _located(exc: ConfigError, build: _Build) -> XmlScenarioError:
     return XmlScenarioError(f"{build.path}: {text}")
 
 
+def xosc_to_dict(path: str | Path, ego: str | None = None) -> dict[str, Any]:
+    """The keys an OpenSCENARIO file gives, as a partial scenario mapping (not yet checked by the loader)."""
+    return _Build(Path(path), ego).scenario_dict()
+
+
 def read_xosc(path: str | Path, ego: str | None = None) -> Scenario:
     """Read an OpenSCENARIO file as a scenario; ``ego`` names the equipped car (default Ego/hero)."""
     build = _Build(Path(path), ego)
