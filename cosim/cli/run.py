@@ -1,6 +1,7 @@
 """``crd run SCENARIO [--strategy S] [--out DIR] [--can-log NAME ...]``: one scenario.
 
-``SCENARIO`` is a TOML file or the name of a bundled scenario (``crd scenarios``).
+``SCENARIO`` is a TOML file, an OpenSCENARIO ``.xosc`` file (``--ego NAME`` picks
+the equipped car; docs/openscenario.md) or the name of a bundled scenario (``crd scenarios``).
 ``--can-log`` adds a CAN log besides ``can.blf`` and may be given several times
 (``.blf``, ``.asc``, ``.mf4``, ...; checked before the run starts). Writes
 ``report.md`` with the table, the checks, the plots and the resolved configuration.
@@ -31,7 +32,7 @@ from pathlib import Path
 from ..loop.experiment import check_run, run_strategies
 from ..results.can_logs import LOG_FORMATS
 from ..scenarios.config import STRATEGIES
-from ..scenarios.loader import load_scenario
+from ..scenarios.formats import read_scenario
 from .ecu_options import add_ecu_arguments, ecu_options, timing_lines
 from .export import add_record_option, check_record, record_run
 from .progress import end_progress, progress_printer, results_table
@@ -44,7 +45,9 @@ EXIT_CHECK_FAILED = 3
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p = subparsers.add_parser("run", help="run one closed-loop scenario (plant FMU + CAN + ECU)")
-    p.add_argument("scenario", help="scenario TOML file, or the name of a bundled one (crd scenarios)")
+    p.add_argument("scenario", help="scenario TOML or OpenSCENARIO .xosc file, or the name of a bundled one "
+                                    "(crd scenarios)")
+    p.add_argument("--ego", metavar="NAME", help=".xosc: the entity that is the equipped car (default Ego/hero)")
     p.add_argument("--strategy", choices=STRATEGIES, help="override the scenario's [ecu] strategy")
     p.add_argument("--out", type=Path, default=Path("out/run"), help="output directory (default out/run)")
     p.add_argument("--can-log", action="append", default=[], metavar="NAME",
@@ -57,7 +60,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
 
 def _do_run(args: argparse.Namespace) -> int:
     path = find_scenario(args.scenario)
-    scenario = load_scenario(path)
+    scenario = read_scenario(path, args.ego)
     strategy = args.strategy or scenario.ecu.strategy
     check_record(args)
     print(f"crd run {path} (strategy {strategy}) -> {args.out}", file=sys.stderr)

@@ -7,6 +7,7 @@ scenario's name, with or without ``.toml`` (``crd run paper_cyclist``).
 from __future__ import annotations
 
 import argparse
+import importlib
 from pathlib import Path
 
 from ..errors import ConfigError
@@ -45,9 +46,17 @@ def description(path: Path) -> str:
     return sentence + "." if sentence else ""
 
 
+#: ``crd scenarios ACTION``: action name -> module with ``add_action(actions)``
+ACTIONS: dict[str, str] = {"export": "cosim.cli.scenarios_export"}
+
+
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
-    p = subparsers.add_parser("scenarios", help="list the bundled scenarios (crd run NAME runs one)")
+    p = subparsers.add_parser("scenarios", help="list the bundled scenarios (crd run NAME runs one); "
+                                                "crd scenarios export converts one")
     p.set_defaults(func=_do_scenarios)
+    actions = p.add_subparsers(dest="action", metavar="ACTION")
+    for module in ACTIONS.values():
+        importlib.import_module(module).add_action(actions)
 
 
 def _do_scenarios(args: argparse.Namespace) -> int:  # noqa: ARG001 - no options

@@ -37,6 +37,7 @@ from ecu.settings import Kind, Range, SettingError, keys, load, load_toml, setti
 from ..errors import ConfigError
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S
 from ..scenarios.loader import scenario_from_dict
+from . import xosc_cells
 from .scorings import SCORINGS, scoring_named
 
 KMH = 3.6
@@ -82,6 +83,9 @@ class CellKeys:
                               "target, matched_speed for a moving one)")
     driver_release: bool = setting(True, doc="the robot releases the accelerator after a 5 km/h drop")
     note: str | None = setting(None, doc="free text")
+    xosc: str | None = setting(None, doc="an OpenSCENARIO file that gives the cell's whole scenario, relative to "
+                                        "the catalogue (cosim.matrix.xosc_cells); the other keys feed the scoring")
+    ego: str | None = setting(None, doc="xosc: the entity that is the equipped car (default Ego/hero)")
 
 
 _CELL_KEYS = keys(CellKeys)
@@ -150,6 +154,8 @@ class Cell:
 
     def scenario_dict(self, phase: int = 0, phases: int = 1) -> dict[str, Any]:
         """The cell as a scenario mapping (plain data, picklable) at radar phase ``phase`` of ``phases``."""
+        if self.params.get("xosc") is not None:
+            return xosc_cells.scenario_dict(self.params, self.base, _deep_merge, phase, phases)
         p = {**_CELL_DEFAULTS, **self.params}
         v, vt = p["ego_speed_kmh"] / KMH, p["target_speed_kmh"] / KMH
         settle, shift_s = p["settle_s"], OBJECT_TRACK_PERIOD_S * phase / phases
@@ -261,7 +267,8 @@ def _build(data: Mapping[str, Any], path: Path) -> Catalogue:
         _check_source(table.source, sources, "scoring")
     name = path.stem
     cells = tuple(c for i, s in enumerate(f.series)
-                  for c in _series(s, f"series[{i}]", (name, scoring.required_keys), f.targets, sources, f.scenario))
+                  for c in _series(s, f"series[{i}]", (name, scoring.required_keys, path.parent), f.targets, sources,
+                                   f.scenario))
     ids = [c.cell_id for c in cells]
     if len(set(ids)) != len(ids):
         raise SettingError("series", f"expected distinct cell ids, got {sorted({i for i in ids if ids.count(i) > 1})} "
@@ -297,7 +304,7 @@ def _series_values(s: Mapping[str, Any], where: str, required: tuple[str, ...]) 
 
 def _series(s: Mapping[str, Any], where: str, cat: tuple[str, tuple[str, ...]], targets: Mapping[str, Target],
             sources: Mapping[str, str], base: Mapping[str, Any]) -> list[Cell]:
-    name, required = cat
+    name, required, base_dir = cat
     n, values = _series_values(s, where, required)
     _check_source(values["source"], sources, where)
     target = targets.get(values["target"])
@@ -306,6 +313,7 @@ def _series(s: Mapping[str, Any], where: str, cat: tuple[str, tuple[str, ...]], 
     cells = []
     for j in range(n):
         params = {key: value[j] if isinstance(value, list) else value for key, value in values.items()}
+        xosc_cells.resolve(params, base_dir)
         cells.append(Cell(name, f"{params['group']}-{params['ego_speed_kmh']:g}", params["group"], params,
                           {"length_m": target.length_m, "width_m": target.width_m, "source": target.source}, base))
     return cells

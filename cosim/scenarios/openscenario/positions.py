@@ -1,0 +1,88 @@
+"""``<Position>`` to a world pose ``(x, y, h)``: world, road and lane positions.
+
+* ``<WorldPosition x y z h p r>``: ``z`` is read and has no effect (crd's world
+  is level); ``p`` and ``r`` must be 0.
+* ``<RoadPosition roadId s t>`` and ``<LanePosition roadId laneId s offset>``:
+  through the road's reference line (:meth:`~.opendrive.Road.point`); a lane
+  position is at the lane's centre plus ``offset`` (left positive). Heading:
+  an ``<Orientation type="absolute">`` gives it, ``type="relative"`` adds its
+  ``h`` to the reference line's heading; without one, the heading is the lane's
+  driving direction under right-hand traffic (lanes right of the centre lane
+  along the reference line, those left of it against it).
+
+Other position types (relative, route, trajectory, geographic) are not supported yet.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Mapping
+
+from .opendrive import Road
+from .xml_source import Element, attr, child, dispatch, fail, number, one_child, only, unsupported
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A reference point in world coordinates and its heading."""
+
+    x_m: float
+    y_m: float
+    h_rad: float
+
+
+def _no_tilt(elem: Element) -> None:
+    for name in ("p", "r"):
+        if number(elem, name, 0.0) != 0.0:
+            raise unsupported(elem, f"{name}={elem.get(name)}: crd's world is level")
+
+
+def _world(elem: Element, roads: Mapping[str, Road]) -> Pose:  # noqa: ARG001 - one handler signature
+    _no_tilt(elem)
+    number(elem, "z", 0.0)
+    return Pose(number(elem, "x"), number(elem, "y"), number(elem, "h", 0.0))
+
+
+def _road_of(elem: Element, roads: Mapping[str, Road]) -> Road:
+    road_id = attr(elem, "roadId")
+    if road_id not in roads:
+        raise fail(elem, f"road {road_id!r} is not in the RoadNetwork's OpenDRIVE file (roads: {sorted(roads)})")
+    return roads[road_id]
+
+
+def _heading(elem: Element, road: Road, default_rad: float) -> float:
+    only(elem, ("Orientation",))
+    orient = child(elem, "Orientation", False)
+    if orient is None:
+        return default_rad
+    _no_tilt(orient)
+    kind = attr(orient, "type", "relative")
+    if kind not in ("relative", "absolute"):
+        raise fail(orient, f"type: expected relative or absolute, got {kind!r}")
+    h = number(orient, "h", 0.0)
+    return h if kind == "absolute" else road.hdg_rad + h
+
+
+def _road_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
+    road = _road_of(elem, roads)
+    x, y = road.point(number(elem, "s"), number(elem, "t"))
+    return Pose(x, y, _heading(elem, road, road.hdg_rad))
+
+
+def _lane_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
+    road = _road_of(elem, roads)
+    lane = int(number(elem, "laneId"))
+    if lane not in road.lane_centre_t_m:
+        raise fail(elem, f"lane {lane} is not on road {road.road_id!r} (lanes: {sorted(road.lane_centre_t_m)})")
+    x, y = road.point(number(elem, "s"), road.lane_centre_t_m[lane] + number(elem, "offset", 0.0))
+    along = road.hdg_rad if lane < 0 else road.hdg_rad + math.pi
+    return Pose(x, y, _heading(elem, road, along))
+
+
+POSITIONS = {"WorldPosition": _world, "RoadPosition": _road_position, "LanePosition": _lane_position}
+
+
+def read_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
+    """A ``<Position>`` element's pose."""
+    return dispatch(one_child(elem), POSITIONS, roads)

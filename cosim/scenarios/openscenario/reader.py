@@ -1,0 +1,196 @@
+"""An OpenSCENARIO 1.x file (with its OpenDRIVE road) as a crd :class:`~cosim.scenarios.config.Scenario`.
+
+The file is read strictly (:mod:`.xml_source`): what crd's 1-D world can
+follow maps onto the scenario keys (docs/openscenario.md); anything else is a
+one-line error naming the file, the line and the element. The mapped keys go
+through the same loader as a TOML file (:func:`cosim.scenarios.loader.scenario_from_dict`),
+so ranges and cross-key rules hold the same; a loader error names the property
+or element it came from.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Mapping
+
+from ...errors import ConfigError
+from ..config import Scenario
+from ..loader import scenario_from_dict
+from .actions import LaneChange, SpeedChange, Teleport
+from .entities import Body, read_entities
+from .frame import Frame
+from .opendrive import Road, read_opendrive
+from .properties import nested
+from .profiles import Actor, brake, lateral, trigger
+from .story import Storyboard, read_storyboard
+from .xml_source import Element, XmlScenarioError, attr, child, children, fail, number, only, parse_file, unsupported
+
+EGO_NAMES = ("ego", "hero")
+TOP = ("FileHeader", "ParameterDeclarations", "CatalogLocations", "RoadNetwork", "Entities", "Storyboard")
+#: the sections crd reads from the ego's crd.* properties ([driver] comes from its controller)
+EGO_SECTIONS = ("scenario", "plant", "radar", "gateway", "ecu", "checks", "end")
+
+
+def pick_ego(bodies: Mapping[str, Body], wanted: str | None, root: Element) -> Body:
+    """The ego: ``wanted`` by name, else the one entity named ``Ego``/``hero`` (any case)."""
+    if wanted is not None:
+        if wanted not in bodies:
+            raise fail(root, f"--ego {wanted!r}: no such entity (entities: {', '.join(bodies)})")
+        return bodies[wanted]
+    named = [b for n, b in bodies.items() if n.lower() in EGO_NAMES]
+    if len(named) != 1:
+        raise fail(root, f"cannot tell the ego among {', '.join(bodies)}: name it Ego or hero, or give --ego NAME")
+    return named[0]
+
+
+def _roads(root: Element, base: Path) -> dict[str, Road]:
+    network = child(root, "RoadNetwork", False)
+    if network is None:
+        return {}
+    only(network, ("LogicFile", "SceneGraphFile"))
+    logic = child(network, "LogicFile", False)
+    return {} if logic is None else read_opendrive(base / attr(logic, "filepath"))
+
+
+def _header(root: Element) -> str:
+    head = child(root, "FileHeader")
+    if number(head, "revMajor") != 1 or number(head, "revMinor") not in (0, 1, 2, 3):
+        raise unsupported(head, f"OpenSCENARIO {head.get('revMajor')}.{head.get('revMinor')}: crd reads 1.0 to 1.3")
+    for tag in ("ParameterDeclarations", "CatalogLocations"):
+        if (c := child(root, tag, False)) is not None and children(c):
+            raise unsupported(children(c)[0], "crd reads self-contained files without parameters or catalogues")
+    return head.get("description", "")
+
+
+def _start(body: Body, init: list) -> tuple[Teleport, float]:
+    """The entity's Init teleport and absolute speed (step)."""
+    where = body.elem
+    teleports = [a for a in init if isinstance(a, Teleport)]
+    speeds = [a for a in init if isinstance(a, SpeedChange)]
+    if len(teleports) != 1:
+        raise fail(where, f"entity {body.name!r}: expected one TeleportAction in Init, got {len(teleports)}")
+    for a in init:
+        if isinstance(a, LaneChange) or len(speeds) > 1:
+            raise unsupported(a.elem, "in Init: crd reads one teleport and one speed per entity")
+    if speeds and speeds[0].dynamics.shape != "step":
+        raise unsupported(speeds[0].dynamics.elem, "a speed transition in Init: entities start at their speed (step)")
+    return teleports[0], speeds[0].target_mps if speeds else 0.0
+
+
+class _Build:
+    """The state of one file's mapping (keeps signatures short)."""
+
+    def __init__(self, path: Path, ego_name: str | None) -> None:
+        self.path = path
+        self.root = parse_file(path, "OpenSCENARIO")
+        only(self.root, TOP)
+        self.name = _header(self.root) or path.stem
+        self.roads = _roads(self.root, path.parent)
+        self.bodies = read_entities(child(self.root, "Entities"))
+        self.ego = pick_ego(self.bodies, ego_name, self.root)
+        self.board: Storyboard = read_storyboard(child(self.root, "Storyboard"), self.roads)
+        self.origins: dict[str, Element] = {}
+
+    def actors(self, frame: Frame, ego_speed: float) -> dict[str, Actor]:
+        out = {}
+        for name, body in self.bodies.items():
+            if body is self.ego:
+                continue
+            teleport, speed = _start(body, self.board.init.get(name, []))
+            direction = frame.direction(teleport.pose.h_rad, teleport.elem)
+            out[name] = Actor(body, teleport.pose, direction, direction * speed, frame, ego_speed)
+        unknown = set(self.board.init) - set(self.bodies)
+        if unknown:
+            raise fail(self.root, f"Init names unknown entities {sorted(unknown)}")
+        return out
+
+    def object_keys(self, actor: Actor, actors: Mapping[str, Actor]) -> dict[str, Any]:
+        keys: dict[str, Any] = {"name": actor.body.name, "position_m": actor.rear_m, "speed_mps": actor.speed_mps,
+                                "length_m": actor.body.length_m, "width_m": actor.body.width_m,
+                                "lateral_m": actor.lateral_m}
+        done: set[str] = set()
+        for event in (e for e in self.board.events if e.actor == actor.body.name):
+            self._event_keys(event, actor, actors, keys, done)
+        for key, value in nested(actor.body.properties).items():
+            if key in keys:
+                prop = actor.body.properties[f"crd.{key}"][1]
+                raise fail(prop, f"property crd.{key}: already given by the standard elements")
+            keys[key] = value
+        return keys
+
+    def _event_keys(self, event, actor: Actor, actors: Mapping[str, Actor], keys: dict, done: set) -> None:
+        action = event.action
+        kind = {SpeedChange: "brake", LaneChange: "lateral"}.get(type(action))
+        if kind is None:
+            raise unsupported(action.elem, "in the story: crd's objects start where Init puts them")
+        if kind in done:
+            raise unsupported(action.elem, f"a second {type(action).__name__} for {actor.body.name!r}: crd's objects "
+                                           f"have one {kind} profile")
+        done.add(kind)
+        keys.update(brake(action, actor) if kind == "brake" else lateral(action, actor, self.roads, actors))
+        at, value = trigger(event.start, actor, self.ego.name)
+        keys[f"{kind}_{at}"] = value
+
+    def scenario_dict(self) -> dict[str, Any]:
+        ego_start, ego_speed = _start(self.ego, self.board.init.get(self.ego.name, []))
+        for event in self.board.events:
+            if event.actor == self.ego.name:
+                raise unsupported(event.action.elem, "an action of the ego in the story: crd's driver models drive "
+                                                     "the ego (its <Controller name=\"crd_driver\">)")
+            if event.actor not in self.bodies:
+                raise fail(event.action.elem, f"actor {event.actor!r} is not an entity")
+        frame = Frame(self.ego, ego_start.pose)
+        actors = self.actors(frame, ego_speed)
+        data = nested(self.ego.properties, origins=self.origins)
+        for section in data:
+            if section not in EGO_SECTIONS:
+                origin = self.origins[next(p for p in self.origins if p.split(".")[0] == section)]
+                raise fail(origin, f"property crd.{section}.*: expected a section of {', '.join(EGO_SECTIONS)}")
+        self._ego_keys(data, ego_speed)
+        objs = [self.object_keys(a, actors) for a in actors.values()]
+        if len(objs) == 1:
+            data["object"] = objs[0]
+        elif objs:
+            data["objects"] = objs
+        else:
+            data["object"] = {"enabled": False}
+        return data
+
+    def _ego_keys(self, data: dict[str, Any], speed: float) -> None:
+        scenario = data.setdefault("scenario", {})
+        scenario.setdefault("name", self.name)
+        if self.board.stop is not None:
+            scenario["duration_s"] = self.board.stop.t_s
+        plant = data.setdefault("plant", {})
+        plant.update(initial_speed_mps=speed, length_m=self.ego.length_m, width_m=self.ego.width_m)
+        driver = {"model": "hold_speed", "set_speed_mps": speed}
+        if self.ego.driver is not None:
+            driver = nested(self.ego.driver, prefix="", origins=self.origins)
+        data["driver"] = driver
+
+
+def _located(exc: ConfigError, build: _Build) -> XmlScenarioError:
+    """A loader error, named by the property it came from when there is one."""
+    text = str(exc)
+    path = text.split(":", 1)[0]
+    for key in (path, path.split(".", 1)[-1]):
+        if key in build.origins:
+            return fail(build.origins[key], text)
+    return XmlScenarioError(f"{build.path}: {text}")
+
+
+def xosc_to_dict(path: str | Path, ego: str | None = None) -> dict[str, Any]:
+    """The keys an OpenSCENARIO file gives, as a partial scenario mapping (not yet checked by the loader)."""
+    return _Build(Path(path), ego).scenario_dict()
+
+
+def read_xosc(path: str | Path, ego: str | None = None) -> Scenario:
+    """Read an OpenSCENARIO file as a scenario; ``ego`` names the equipped car (default Ego/hero)."""
+    build = _Build(Path(path), ego)
+    data = build.scenario_dict()
+    try:
+        return scenario_from_dict(data, base_dir=build.path.parent)
+    except XmlScenarioError:
+        raise
+    except ConfigError as exc:
+        raise _located(exc, build) from None

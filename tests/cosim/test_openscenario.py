@@ -1,0 +1,107 @@
+"""OpenSCENARIO/OpenDRIVE export and import (issue 24): independent parser, ASAM XSDs, exact round trips.
+
+The XSDs are the ones scenariogeneration ships (OpenSCENARIO 1.0-1.3, OpenDRIVE 1.7).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+
+import pytest
+
+sg = pytest.importorskip("scenariogeneration")
+xmlschema = pytest.importorskip("xmlschema")
+
+from cosim.cli.main import main  # noqa: E402
+from cosim.matrix.catalogue import bundled, load_catalogue  # noqa: E402
+from cosim.scenarios.loader import load_scenario, scenario_from_dict  # noqa: E402
+from cosim.scenarios.openscenario import read_xosc  # noqa: E402
+from cosim.scenarios.openscenario.export import export_xosc  # noqa: E402
+
+SCHEMAS = Path(sg.__file__).resolve().parents[1] / "schemas"
+PAPER = Path(__file__).resolve().parents[2] / "cosim" / "scenarios" / "paper_cyclist.toml"
+
+
+def _cells():
+    return [(name, cell) for name in sorted(bundled()) for cell in load_catalogue(name).cells]
+
+
+def _same_scene(a, b) -> bool:
+    """Equal scenarios; one object may come back as [object] or [[objects]] (the same scene)."""
+    norm = lambda s: dataclasses.replace(s, object=None, objects=s.scene_objects())  # noqa: E731
+    return norm(a) == norm(b)
+
+
+@pytest.fixture(scope="module")
+def schemas():
+    return xmlschema.XMLSchema(str(SCHEMAS / "OpenSCENARIO_1_2.xsd")), xmlschema.XMLSchema(
+        str(SCHEMAS / "opendrive_17_core.xsd"))
+
+
+@pytest.mark.parametrize("cell_id", ["paper", "CCRb-50", "cut-out-50", "lead-brakes-far-ahead-50",
+                                     "adjacent-stationary-car-80"])
+def test_export_validates_and_parses_with_scenariogeneration(tmp_path: Path, schemas, cell_id: str) -> None:
+    scenario = load_scenario(PAPER) if cell_id == "paper" else scenario_from_dict(
+        next(c for _, c in _cells() if c.cell_id == cell_id).scenario_dict())
+    xosc_path, xodr_path = export_xosc(scenario, tmp_path, "s")
+    osc_xsd, odr_xsd = schemas
+    osc_xsd.validate(str(xosc_path))
+    odr_xsd.validate(str(xodr_path))
+    parsed = sg.xosc.ParseOpenScenario(str(xosc_path))
+    names = [o.name for o in parsed.entities.scenario_objects]
+    assert names == ["Ego"] + [o.name for o in scenario.scene_objects()]
+    assert parsed.header.description == scenario.scenario.name
+
+
+def test_every_bundled_cell_round_trips_exactly(tmp_path: Path) -> None:
+    cells = _cells()
+    assert len(cells) > 50
+    for name, cell in cells:
+        for phase in (0, 2):
+            scenario = scenario_from_dict(cell.scenario_dict(phase, 3))
+            back = read_xosc(export_xosc(scenario, tmp_path, cell.cell_id)[0])
+            assert _same_scene(scenario, back), (name, cell.cell_id, phase)
+    paper = load_scenario(PAPER)
+    assert read_xosc(export_xosc(paper, tmp_path, "paper")[0]) == paper
+
+
+def _outputs(run: Path) -> dict[str, bytes]:
+    """Every file of a run, the wall time masked out and the BLF log as its decoded frames."""
+    import can
+
+    out = {}
+    for path in sorted(p for p in run.rglob("*") if p.is_file()):
+        rel = str(path.relative_to(run))
+        if path.suffix == ".blf":
+            with can.BLFReader(str(path)) as reader:
+                out[rel] = repr([(m.timestamp, m.arbitration_id, bytes(m.data)) for m in reader]).encode()
+        elif path.name == "metrics.json":
+            data = json.loads(path.read_text())
+            for record in data["runs"]:
+                record.pop("wall_time_s")
+            out[rel] = json.dumps(data, sort_keys=True).encode()
+        elif path.name == "report.md":  # its table's last column is the wall time
+            lines = path.read_text().splitlines()
+            assert lines[4].endswith("| wall (s) |")
+            out[rel] = "\n".join(line.rsplit("|", 2)[0] if line.startswith("|") else line for line in lines).encode()
+        else:
+            out[rel] = path.read_bytes()
+    return out
+
+
+@pytest.mark.slow
+def test_export_then_import_gives_the_same_run(tmp_path: Path) -> None:
+    key = tmp_path / "key.hex"  # one SecOC key for both runs (else each run draws a fresh one: other MACs)
+    key.write_text("00112233445566778899aabbccddeeff\n")
+    key.chmod(0o600)
+    assert main(["scenarios", "export", "paper_cyclist", "--format", "xosc", "--out", str(tmp_path / "x")]) == 0
+    assert main(["run", "paper_cyclist", "--key-file", str(key), "--out", str(tmp_path / "a")]) == 0
+    assert main(["run", str(tmp_path / "x" / "paper_cyclist.xosc"), "--key-file", str(key),
+                 "--out", str(tmp_path / "b")]) == 0
+    a, b = _outputs(tmp_path / "a"), _outputs(tmp_path / "b")
+    assert "tightening/timeseries.csv" in a and "tightening/can.blf" in a
+    assert a.keys() == b.keys()
+    for name in a:
+        assert a[name] == b[name], name
