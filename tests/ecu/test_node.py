@@ -116,5 +116,5 @@ def test_cli_runs_and_exits_cleanly_on_sigterm(tmp_path):
                 proc.wait()
     assert proc.returncode == 0, err
     ready, summary = out.strip().splitlines()  # issue 25: a ready line first, then the summary
-    assert ready.startswith("ecu ready on virtual cli-test: strategy none")
+    assert ready.startswith(f"ecu ready on crd_unix {channel}: strategy none")
     assert summary.startswith("ecu none: final mode FAULT; real-time:") and "cycles" in summary
