@@ -171,7 +171,8 @@ class CoreParams:
         290.0, unit="m/s^2", allowed=Range(0.0, 10_000.0),
         doc="while driving, the driven wheels' lead over the non-driven ones grows at most this fast: the "
             "whole drive force on the driven axle's inertia, F r^2 / J = 6000 N x (0.31 m)^2 / 2 kg m^2 "
-            "= 288 m/s^2 (plant defaults, fmu_plant/README.md); measured at most 183 m/s^2 (paper run, friction 0.3)")
+            "= 288 m/s^2 (plant defaults, fmu_plant/README.md); measured at most 183 m/s^2 (paper run, "
+            "friction 0.3)")
     radar_speed_tolerance_mps: float = setting(
         6.0, unit="m/s", allowed=Range(0.0, 100.0),
         doc="a valid object may close this much faster than our speed estimate (measured in the paper "

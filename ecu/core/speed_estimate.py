@@ -89,7 +89,8 @@ def wheels_braked(state: CoreState, inputs: CoreInputs, params: CoreParams) -> b
     outlives the command), or the non-driven wheels slowing."""
     if brake_commanded(state, inputs) or (state.cycles_since_brake + 1) * params.cycle_s < params.brake_memory_s:
         return True
-    return state.speed_initialised and free_wheel_mean_mps(inputs.wheel_speeds_mps, params) < state.prev_free_wheel_mean_mps
+    free_mean_mps = free_wheel_mean_mps(inputs.wheel_speeds_mps, params)
+    return state.speed_initialised and free_mean_mps < state.prev_free_wheel_mean_mps
 
 
 def next_speed(state: CoreState, inputs: CoreInputs, wheels_usable: bool,
