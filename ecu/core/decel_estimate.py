@@ -58,13 +58,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from .params import NON_DRIVEN_WHEELS, CoreParams
-
-#: driven axle name -> indices of the driven wheels when another axle is free to give the reference.
-DRIVEN_WHEELS: dict[str, tuple[int, ...]] = {
-    name: (() if len(free) == 4 else tuple(i for i in range(4) if i not in free))
-    for name, free in NON_DRIVEN_WHEELS.items()
-}
+from .params import DRIVEN_WHEELS, CoreParams
 
 
 class DecelEstimate(NamedTuple):

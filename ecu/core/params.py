@@ -38,6 +38,11 @@ NON_DRIVEN_WHEELS: dict[str, tuple[int, ...]] = {
     "rear": (0, 1),
     "all": (0, 1, 2, 3),
 }
+#: driven axle name -> indices of the driven wheels when another axle is free to give the reference.
+DRIVEN_WHEELS: dict[str, tuple[int, ...]] = {
+    name: (() if len(free) == 4 else tuple(i for i in range(4) if i not in free))
+    for name, free in NON_DRIVEN_WHEELS.items()
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -152,10 +157,22 @@ class CoreParams:
         doc="consecutive all-valid cycles needed to leave FAULT (also at start-up)")
     wheel_slip_abs_mps: float = setting(
         2.0, unit="m/s", allowed=Range(0.0, 100.0),
-        doc="plausibility (ecu.core.plausibility): wheel spread allowed while not braking, absolute part "
+        doc="plausibility (ecu.core.plausibility): spread allowed between the non-driven wheels, and "
+            "between driven and non-driven ones without wheelspin, while not braking, absolute part "
             "(measured in the paper run: 1.53 m/s, 8.5 %)")
     wheel_slip_fraction: float = setting(
-        0.3, allowed=Range(0.0, 1.0), doc="... and fraction of the fastest wheel")
+        0.3, allowed=Range(0.0, 1.0), doc="... and fraction of the fastest non-driven wheel")
+    drive_memory_s: float = setting(
+        0.75, unit="s", allowed=Range(0.0, 10.0),
+        doc="after the accelerator was last pressed, the driven wheels may still spin up for this long: "
+            "the powertrain's force decays with its first-order lag (plant: 0.25 s, fmu_plant/README.md), "
+            "to 5 % after 3 time constants")
+    driven_wheel_spinup_max_mps2: float = setting(
+        290.0, unit="m/s^2", allowed=Range(0.0, 10_000.0),
+        doc="while driving, the driven wheels' lead over the non-driven ones grows at most this fast: the "
+            "whole drive force on the driven axle's inertia, F r^2 / J = 6000 N x (0.31 m)^2 / 2 kg m^2 "
+            "= 288 m/s^2 (plant defaults, fmu_plant/README.md); measured at most 183 m/s^2 (paper run, "
+            "friction 0.3)")
     radar_speed_tolerance_mps: float = setting(
         6.0, unit="m/s", allowed=Range(0.0, 100.0),
         doc="a valid object may close this much faster than our speed estimate (measured in the paper "

@@ -6,11 +6,21 @@ braking and *faster* than the car while driving. So each cycle a candidate is
 picked from the wheels:
 
 * braking (brake pedal pressed, our previous cycle requested deceleration, or
-  the mean wheel speed is falling): ``candidate = max(wheels)``, the least
-  slipping wheel;
+  the mean speed of the non-driven wheels is falling): ``candidate =
+  max(wheels)``, the least slipping wheel;
 * otherwise (accelerating or cruising): ``candidate = min(non-driven wheels)``;
   non-driven wheels carry no traction torque (``driven_axle`` param; the plant
   is front-wheel driven, so the rear axle; ``"all"`` uses all four).
+
+Only the non-driven wheels tell whether the car slows: driven wheels that spin
+down after wheelspin fall while the car still accelerates, and were taken for
+braking (issue 25: the estimate then followed a spinning wheel, 19 m/s above
+the car at the end of a full-throttle run on friction 0.3). Estimating the
+vehicle speed from the non-driven wheels while drive torque acts is how ABS/TCS
+controllers do it (van Zanten, Erhardt, Pfaff, "VDC, the Vehicle Dynamics
+Control System of Bosch", SAE 950759, 1995, and the Bosch *Automotive
+Handbook*, TCS chapter: the reference speed of a driven axle's wheel slip
+comes from the non-driven wheels; both cited from memory, unconfirmed here).
 
 The estimate then follows the candidate through a slope limiter, because the
 car cannot change speed faster than physics allows even when every wheel
@@ -29,10 +39,7 @@ speed fields of :class:`ecu.core.types.CoreState`.
 from __future__ import annotations
 
 from .params import NON_DRIVEN_WHEELS, CoreParams
-from .types import CoreInputs, CoreState, Mode
-
-#: cycles since braking saturate here
-_CYCLES_MAX = 1_000_000
+from .types import CYCLES_MAX, CoreInputs, CoreState, Mode
 
 
 def update_speed_mps(
@@ -66,25 +73,40 @@ def coast_down_speed_mps(previous_mps: float, decel_mps2: float, dt_s: float) ->
     return max(0.0, previous_mps - decel_mps2 * dt_s)
 
 
+def free_wheel_mean_mps(wheels_mps: tuple[float, ...], params: CoreParams) -> float:
+    """Mean speed of the non-driven wheels (all four for all-wheel drive)."""
+    free = NON_DRIVEN_WHEELS[params.driven_axle]
+    return sum(map(wheels_mps.__getitem__, free)) / len(free)
+
+
+def brake_commanded(state: CoreState, inputs: CoreInputs) -> bool:
+    """The driver's brake pedal is pressed, or we requested deceleration last cycle."""
+    return inputs.brake_pedal > 0.0 or state.prev_decel_request_mps2 > 0.0
+
+
+def wheels_braked(state: CoreState, inputs: CoreInputs, params: CoreParams) -> bool:
+    """Braking as the reference speed sees it: commanded within ``brake_memory_s`` (brake pressure
+    outlives the command), or the non-driven wheels slowing."""
+    if brake_commanded(state, inputs) or (state.cycles_since_brake + 1) * params.cycle_s < params.brake_memory_s:
+        return True
+    free_mean_mps = free_wheel_mean_mps(inputs.wheel_speeds_mps, params)
+    return state.speed_initialised and free_mean_mps < state.prev_free_wheel_mean_mps
+
+
 def next_speed(state: CoreState, inputs: CoreInputs, wheels_usable: bool,
                params: CoreParams) -> tuple[float, bool, float, int]:
-    """The speed fields of the next state: (speed estimate m/s, initialised, mean wheel speed m/s, cycles
-    since braking was commanded, saturating). ``wheels_usable``: the wheel speeds are valid and plausible.
-
-    Braking, for the candidate: commanded within ``brake_memory_s`` (brake pressure outlives the
-    command), or the mean wheel speed falling.
+    """The speed fields of the next state: (speed estimate m/s, initialised, mean speed of the non-driven
+    wheels m/s, cycles since braking was commanded, saturating). ``wheels_usable``: the wheel speeds are
+    valid and plausible. Braking, for the candidate: :func:`wheels_braked`.
     """
-    commanded = inputs.brake_pedal > 0.0 or state.prev_decel_request_mps2 > 0.0
-    since_brake = 0 if commanded else min(state.cycles_since_brake + 1, _CYCLES_MAX)
+    since_brake = 0 if brake_commanded(state, inputs) else min(state.cycles_since_brake + 1, CYCLES_MAX)
     if not wheels_usable:
         speed = state.speed_mps
         if state.held_contingency or state.mode == Mode.CONTINGENCY:
             decel = params.strategy_rules.model_decel_mps2(state.decel, params)
             speed = coast_down_speed_mps(speed, decel, params.cycle_s)
-        return speed, state.speed_initialised, state.prev_wheel_mean_mps, since_brake
+        return speed, state.speed_initialised, state.prev_free_wheel_mean_mps, since_brake
     wheels = inputs.wheel_speeds_mps
-    mean = sum(wheels) / 4.0
-    braking = (since_brake * params.cycle_s < params.brake_memory_s
-               or (state.speed_initialised and mean < state.prev_wheel_mean_mps))
+    braking = wheels_braked(state, inputs, params)
     speed = update_speed_mps(state.speed_mps, state.speed_initialised, wheels, braking, params)
-    return speed, True, mean, since_brake
+    return speed, True, free_wheel_mean_mps(wheels, params), since_brake

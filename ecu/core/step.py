@@ -30,7 +30,7 @@ from .modes import decide
 from .output_gate import gate
 from .params import CoreParams
 from .plan import plan
-from .plausibility import input_health, speed_radar_implausible
+from .plausibility import Health, input_health, speed_radar_implausible
 from .relevance import in_path
 from .speed_estimate import next_speed
 from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag
@@ -40,25 +40,25 @@ _SPEED_RADAR, _INTERNAL = 1 << FaultFlag.SPEED_RADAR, 1 << FaultFlag.INTERNAL
 
 
 def _checked_speed(state: CoreState, inputs: CoreInputs, relevant: bool,
-                   params: CoreParams) -> tuple[int, tuple[float, bool, float, int], bool, bool]:
-    """(fault flags, the speed fields of the next state, wheels usable, driver input usable) after every
-    check; ``relevant``: the object is valid and in our path."""
+                   params: CoreParams) -> tuple[Health, tuple[float, bool, float, int]]:
+    """(the input health after every check, the speed fields of the next state); ``relevant``: the object
+    is valid and in our path."""
     flags, wheels_valid = input_validity(inputs, params)
-    health_flags, wheels_ok, driver_ok = input_health(state, inputs, params)
-    flags |= health_flags
-    wheels_ok = wheels_ok and wheels_valid
+    health = input_health(state, inputs, params)
+    flags |= health.flags
+    wheels_ok = health.wheels_ok and wheels_valid
     speed = next_speed(state, inputs, wheels_ok, params)
     if wheels_ok and speed_radar_implausible(speed[0], inputs, relevant, params):
         flags |= _SPEED_RADAR
         wheels_ok = False
-    return flags, speed, wheels_ok, driver_ok
+    return health._replace(flags=flags, wheels_ok=wheels_ok), speed
 
 
 def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[CoreState, CoreOutputs]:
     """Run one cycle; return the next state and the gated outputs."""
     relevant = inputs.object_valid and in_path(inputs.object_lateral_m, params)
-    flags, (speed, initialised, wheel_mean, since_brake), wheels_ok, driver_ok = _checked_speed(
-        state, inputs, relevant, params)
+    health, (speed, initialised, free_mean, since_brake) = _checked_speed(state, inputs, relevant, params)
+    flags, wheels_ok, driver_ok = health.flags, health.wheels_ok, health.driver_ok
     fault = flags & ~REPORT_ONLY_FLAGS
     estimate, decel_mps2 = params.strategy_rules.cycle_decel(state, inputs, speed, wheels_ok, params)
     cycle_plan = plan(speed, inputs, relevant, decel_mps2, params)
@@ -71,10 +71,11 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     if gated.interventions:
         flags |= _INTERNAL
     next_state = CoreState(
-        mode=gated.mode, speed_mps=speed, speed_initialised=initialised, prev_wheel_mean_mps=wheel_mean,
+        mode=gated.mode, speed_mps=speed, speed_initialised=initialised, prev_free_wheel_mean_mps=free_mean,
         prev_decel_request_mps2=gated.brake_decel_request_mps2, cycles_since_brake=since_brake,
         valid_cycles=valid_cycles, held_contingency=held,
-        gate_interventions=state.gate_interventions + gated.interventions, decel=estimate)
+        gate_interventions=state.gate_interventions + gated.interventions, decel=estimate,
+        cycles_since_drive=health.cycles_since_drive, traction_excess_mps=health.traction_excess_mps)
     outputs = CoreOutputs(
         mode=gated.mode, override_active=gated.override_active, throttle_limit_pct=gated.throttle_limit_pct,
         brake_decel_request_mps2=gated.brake_decel_request_mps2, fault_flags=flags,

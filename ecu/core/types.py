@@ -29,6 +29,8 @@ from can_dbc.contract import FAULT_SIGNALS, MODE_NAMES
 from .decel_estimate import DecelEstimate
 
 NEVER_S = -math.inf
+#: cycle counters of the state saturate here
+CYCLES_MAX = 1_000_000
 
 #: ``SafetyOverride.Mode`` of the DBC, built from its ``VAL_``: STANDBY, TIGHTENING, CONTINGENCY, FAULT.
 Mode = IntEnum("Mode", {name: value for value, name in MODE_NAMES.items()}, module=__name__)
@@ -80,15 +82,20 @@ class CoreState(NamedTuple):
     mode: Mode = Mode.FAULT
     speed_mps: float = 0.0
     speed_initialised: bool = False
-    prev_wheel_mean_mps: float = 0.0
+    #: mean speed of the non-driven wheels last cycle (:func:`ecu.core.speed_estimate.free_wheel_mean_mps`).
+    prev_free_wheel_mean_mps: float = 0.0
     prev_decel_request_mps2: float = 0.0
     #: cycles since braking was last commanded (driver pedal or our request); saturates.
-    cycles_since_brake: int = 1_000_000
+    cycles_since_brake: int = CYCLES_MAX
     #: consecutive cycles with every input valid (saturates at the recovery count).
     valid_cycles: int = 0
     #: a contingency active when the fault began, held while faulted.
     held_contingency: bool = False
     gate_interventions: int = 0
+    #: cycles since the driver's accelerator was last pressed (saturates; :mod:`ecu.core.plausibility`).
+    cycles_since_drive: int = CYCLES_MAX
+    #: how far the driven wheels have plausibly run ahead of the non-driven ones (m/s, wheelspin).
+    traction_excess_mps: float = 0.0
     #: the ``adaptive`` strategy's estimate of the achievable deceleration (:mod:`ecu.core.decel_estimate`).
     decel: DecelEstimate = DecelEstimate()
 

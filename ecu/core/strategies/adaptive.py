@@ -7,7 +7,10 @@ tightens like ``tightening`` and plans each cycle with
 estimate of the achievable deceleration (:mod:`ecu.core.decel_estimate`: the
 dry peak before any evidence, so with no evidence it plans exactly like
 ``tightening``). The estimate only learns from valid, plausible wheel speeds
-of a car whose speed estimate is initialised.
+of a car whose speed estimate is initialised. Wheelspin under drive torque is
+plausible (:mod:`ecu.core.plausibility`), so its traction slip is evidence of
+a slippery road; from issue 15 to issue 25 the wheel-spread check took it for
+a fault, and ``adaptive`` learnt nothing from a spinning start.
 """
 
 from __future__ import annotations
