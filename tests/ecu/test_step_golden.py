@@ -1,10 +1,10 @@
-"""The ECU core reproduces, bit for bit, every state and output of the core of ``d2cf42d``.
+"""The ECU core reproduces, bit for bit, every state and output of the recorded core.
 
 ``data/step_golden.npz`` holds what the core of ``d2cf42d`` (its step written
-out by hand, issue 10) returned over the seeded drives of :mod:`.drives`:
-every strategy, four input-noise rates (forged, timed-out, future-stamped,
-E2E-invalid, receiver-flagged and non-finite inputs among them) and four
-parameter variants, 600 cycles each. Per cycle it keeps an 8-byte digest of
+out by hand, issue 10), with issue 25's track confirmation added, returned over
+the seeded drives of :mod:`.drives`: every strategy, four input-noise rates
+(forged, timed-out, future-stamped, E2E-invalid, receiver-flagged and
+non-finite inputs among them) and four parameter variants, 600 cycles each. Per cycle it keeps an 8-byte digest of
 the exact text of the next state, the outputs and :func:`ecu.core.plan_cycle`
 (floats by ``repr``, so -0.0 and NaN count; every value with its type), and
 the outputs' decisions in full. The core composed from its one-concern modules
