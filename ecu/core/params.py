@@ -144,17 +144,18 @@ class CoreParams:
     track_range_tolerance_m: float = setting(
         2.0, unit="m", allowed=Range(0.0, 250.0),
         doc="a report's range may differ this much from the previous report's advanced by the mean range "
-            "rate: about 4 standard deviations of the difference of two reports with range noise of "
-            "0.3-0.4 m (a radar's range accuracy; our noisiest scenario uses 0.3 m)")
+            "rate: twice the difference of two reports each off by a radar's +-0.5 m range accuracy (an "
+            "automotive 24 GHz radar's data sheet, ecu/README.md), 6.7 sigma at our noisiest scenario's 0.3 m")
     track_rate_tolerance_mps: float = setting(
         1.0, unit="m/s", allowed=Range(0.0, 200.0),
-        doc="... its range rate this much from the previous report's, on top of the acceleration limit "
-            "(range-rate noise of 0.1-0.2 m/s: 3.5 standard deviations of the difference and more)")
+        doc="... its range rate this much from the previous report's, on top of the acceleration limit: "
+            "with it (1 + 20 x 0.05 = 2 m/s per report) two reports each off by +-2 km/h (0.56 m/s, the "
+            "same data sheet) agree")
     track_accel_limit_mps2: float = setting(
         20.0, unit="m/s^2", allowed=Range(0.0, 1000.0),
-        doc="the largest relative acceleration of two road vehicles: each brakes at most at about the "
-            "tyre-road friction limit (~1 g on dry asphalt), so one braking while the other accelerates "
-            "stays well below 2 g = 20 m/s^2")
+        doc="the largest relative acceleration of two road vehicles: each brakes or accelerates at most "
+            "at about the dry-road friction limit, ~1 g (our plant's ABS peak: 8.9 m/s^2), so two stay "
+            "below 2 g = 20 m/s^2")
     track_coast_s: float = setting(
         timeout_s("ObjectTrack"), unit="s", allowed=Range(0.0, math.inf, low_open=True),
         doc="a valid report continues the track of the last valid report at most this much older "

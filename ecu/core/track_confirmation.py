@@ -5,10 +5,11 @@ Why (issue 25, finding 1): without SecOC, an attacker who recorded genuine
 + 1. The receiver accepts that one frame (E2E cannot tell it from the live
 one) before the live sender's repeat breaks the sequence, and the ECU braked
 for the phantom object it described. Production radar functions do not act
-on a single detection either: a track is *confirmed* only after several
-consecutive measurements agree with one another (track initiation by
-"M-of-N" logic, Blackman & Popoli, *Design and Analysis of Modern Tracking
-Systems*, 1999, track initiation chapter; not checked here).
+on a single detection either: a new track stays *tentative* until the
+measurements of several further updates have been associated with it, most
+commonly by the "M-of-N" rule, M = 3 of N = 5 updates being typical (Radar
+tracker, "Track initiation", Wikipedia, mirrored at radartutorial.eu). Ours is
+stricter: 3 consecutive reports (3 of 3), each consistent with the one before.
 
 A *report* is a fresh ``ObjectTrack``: the core sees one when
 ``object_rx_t_s`` differs from the time of the last report it took. A valid

@@ -1,4 +1,5 @@
-"""Track confirmation (ecu/core/track_confirmation.py): N consistent reports confirm; a jump or a lone stale one never."""
+"""Track confirmation (ecu/core/track_confirmation.py): N consistent reports confirm, a jump or a lone stale one
+never; a real object is still braked for."""
 
 import math
 

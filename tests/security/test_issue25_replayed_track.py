@@ -79,7 +79,8 @@ def _counter(frames: list[can.Message]) -> int:
 
 
 def _real_object(bench: Bench) -> tuple[list[list[can.Message]], float | None]:
-    """Drive 2.5 s toward the object; returns its recorded frames and the first brake (s after its first report)."""
+    """Drive 2.5 s toward the object; returns its recorded frames and the first brake (s after its first
+    report)."""
     recorded, first = [], None
     for n in range(RECORDED * TRACK_EVERY):
         report = n // TRACK_EVERY
