@@ -1,9 +1,9 @@
 """The pure core of the active-safety ECU: ``step(state, inputs, params) -> (state, outputs)``.
 
 No I/O, no clock, no logging. Submodules, one concern each, composed by
-``step`` in this order: ``relevance``, ``validity`` and ``plausibility``,
-``speed_estimate``, the strategy (``strategies``, one module each, in a
-registry; ``decel_estimate`` is ``adaptive``'s estimate of the achievable
+``step`` in this order: ``track_confirmation`` and ``relevance``, ``validity``
+and ``plausibility``, ``speed_estimate``, the strategy (``strategies``, one
+module each, in a registry; ``decel_estimate`` is ``adaptive``'s estimate of the achievable
 deceleration, our extension), ``plan`` (``proximity``, ``intent``,
 ``stopping_path``, ``relative_stop``), ``modes`` and ``degraded``, and
 ``output_gate``.

@@ -141,6 +141,31 @@ class CoreParams:
             "time at the closing speed, capped at proximity_margin_m, floored at proximity_margin_min_m")
     proximity_margin_min_m: float = setting(1.0, unit="m", allowed=Range(0.0, 250.0, low_open=True),
                                             doc="floor of the moving-object proximity margin")
+    track_confirm_reports: int = setting(
+        3, unit="reports", allowed=Range(1, 100),
+        doc="track confirmation (ecu/core/track_confirmation.py): an object starts an intervention only "
+            "once this many consecutive ObjectTrack reports agree (1: every report confirms itself); "
+            "3 reports of the DBC's 50 ms cycle confirm a track 100 ms after its first report")
+    track_range_tolerance_m: float = setting(
+        2.0, unit="m", allowed=Range(0.0, 250.0),
+        doc="a report's range may differ this much from the previous report's advanced by the mean range "
+            "rate: twice the difference of two reports each off by a radar's +-0.5 m range accuracy (an "
+            "automotive 24 GHz radar's data sheet, ecu/README.md), 6.7 sigma at our noisiest scenario's 0.3 m")
+    track_rate_tolerance_mps: float = setting(
+        1.0, unit="m/s", allowed=Range(0.0, 200.0),
+        doc="... its range rate this much from the previous report's, on top of the acceleration limit: "
+            "with it (1 + 20 x 0.05 = 2 m/s per report) two reports each off by +-2 km/h (0.56 m/s, the "
+            "same data sheet) agree")
+    track_accel_limit_mps2: float = setting(
+        20.0, unit="m/s^2", allowed=Range(0.0, 1000.0),
+        doc="the largest relative acceleration of two road vehicles: each brakes or accelerates at most "
+            "at about the dry-road friction limit, ~1 g (our plant's ABS peak: 8.9 m/s^2), so two stay "
+            "below 2 g = 20 m/s^2")
+    track_coast_s: float = setting(
+        timeout_s("ObjectTrack"), unit="s", allowed=Range(0.0, math.inf, low_open=True),
+        doc="a valid report continues the track of the last valid report at most this much older "
+            "(reports of no object between them coast); default the DBC's ObjectTrack timeout, the "
+            "age at which the ECU stops trusting a track at all")
     wheel_speeds_timeout_s: float = setting(
         timeout_s("WheelSpeeds"), unit="s", allowed=Range(0.0, math.inf, low_open=True),
         doc="WheelSpeeds reception timeout; at least its DBC cycle")

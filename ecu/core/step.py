@@ -2,7 +2,10 @@
 
 Order within the cycle, each step a call of the module that defines it:
 
-1. relevance: is the object valid and in our path (:mod:`ecu.core.relevance`);
+1. track confirmation and relevance: has the radar reported the object
+   consistently (:mod:`ecu.core.track_confirmation`), is it valid and in our
+   path (:mod:`ecu.core.relevance`); an unconfirmed object is no object to
+   every later step, so it never starts braking;
 2. validity: fault flags from timeouts, E2E scores and impossible values
    (:mod:`ecu.core.validity`), the receiver's and the node's findings and the
    plausibility checks (:mod:`ecu.core.plausibility`);
@@ -33,6 +36,7 @@ from .plan import plan
 from .plausibility import Health, input_health, speed_radar_implausible
 from .relevance import in_path
 from .speed_estimate import next_speed
+from .track_confirmation import confirmed, next_track
 from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag
 from .validity import input_validity
 
@@ -56,7 +60,9 @@ def _checked_speed(state: CoreState, inputs: CoreInputs, relevant: bool,
 
 def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[CoreState, CoreOutputs]:
     """Run one cycle; return the next state and the gated outputs."""
-    relevant = inputs.object_valid and in_path(inputs.object_lateral_m, params)
+    track = next_track(state.track, inputs, params)
+    confirmed_track = confirmed(track, params)
+    relevant = confirmed_track and inputs.object_valid and in_path(inputs.object_lateral_m, params)
     health, (speed, initialised, free_mean, since_brake) = _checked_speed(state, inputs, relevant, params)
     flags, wheels_ok, driver_ok = health.flags, health.wheels_ok, health.driver_ok
     fault = flags & ~REPORT_ONLY_FLAGS
@@ -65,7 +71,8 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     # standstill only matters while faulted (a held contingency ends there)
     stopped = bool(fault) and release_speed_mps(speed, wheels_ok, inputs, params) <= params.standstill_speed_mps
     mode, valid_cycles, held, throttle, decel = decide(state, cycle_plan, fault, stopped, params)
-    if fault and decel < params.contingency_decel_mps2 and degraded_brake(speed, wheels_ok, driver_ok, inputs, params):
+    if (fault and decel < params.contingency_decel_mps2 and confirmed_track
+            and degraded_brake(speed, wheels_ok, driver_ok, inputs, params)):
         decel = params.contingency_decel_mps2  # degraded mode (ecu.core.degraded)
     gated = gate(mode, throttle, decel)
     if gated.interventions:
@@ -74,7 +81,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
         mode=gated.mode, speed_mps=speed, speed_initialised=initialised, prev_free_wheel_mean_mps=free_mean,
         prev_decel_request_mps2=gated.brake_decel_request_mps2, cycles_since_brake=since_brake,
         valid_cycles=valid_cycles, held_contingency=held,
-        gate_interventions=state.gate_interventions + gated.interventions, decel=estimate,
+        gate_interventions=state.gate_interventions + gated.interventions, decel=estimate, track=track,
         cycles_since_drive=health.cycles_since_drive, traction_excess_mps=health.traction_excess_mps)
     outputs = CoreOutputs(
         mode=gated.mode, override_active=gated.override_active, throttle_limit_pct=gated.throttle_limit_pct,

@@ -27,6 +27,7 @@ from typing import NamedTuple
 from can_dbc.contract import FAULT_SIGNALS, MODE_NAMES
 
 from .decel_estimate import DecelEstimate
+from .track_confirmation import TrackState
 
 NEVER_S = -math.inf
 #: cycle counters of the state saturate here
@@ -98,6 +99,8 @@ class CoreState(NamedTuple):
     traction_excess_mps: float = 0.0
     #: the ``adaptive`` strategy's estimate of the achievable deceleration (:mod:`ecu.core.decel_estimate`).
     decel: DecelEstimate = DecelEstimate()
+    #: the radar track's confirmation (:mod:`ecu.core.track_confirmation`).
+    track: TrackState = TrackState()
 
 
 class CoreOutputs(NamedTuple):

@@ -3,7 +3,9 @@
 
 from ecu.core import CoreInputs, CoreParams, CoreState, FaultFlag, Mode, step
 
-P = CoreParams(strategy="none")
+#: objects appear here from one cycle to the next, so track confirmation (tests/ecu/test_track_confirmation.py)
+#: is off: every valid report confirms itself
+P = CoreParams(strategy="none", track_confirm_reports=1)
 
 
 def fresh(t, speed=20.0, range_m=None, accel=1.0, brake=0.0):

@@ -1,9 +1,11 @@
 """The ECU core reproduces, bit for bit, every state and output of the recorded core.
 
 ``data/step_golden.npz`` holds what the core of ``d2cf42d`` (its step written
-out by hand, issue 10), re-recorded for issue 25 (wheelspin is driving: the
-state carries the driven wheels' lead and the cycles since the accelerator,
-and 14 of the 38,400 cycles decide otherwise), returned over the seeded drives of :mod:`.drives`:
+out by hand, issue 10), re-recorded for issue 25 twice: wheelspin is driving (the
+state carries the driven wheels' lead and the cycles since the accelerator; 14 of
+the 38,400 cycles decided otherwise), and track confirmation (with
+``track_confirm_reports`` 1 every cycle decided as before, with the default 3,
+837 did not); returned over the seeded drives of :mod:`.drives`:
 every strategy, four input-noise rates (forged, timed-out, future-stamped,
 E2E-invalid, receiver-flagged and non-finite inputs among them) and four
 parameter variants, 600 cycles each. Per cycle it keeps an 8-byte digest of

@@ -8,7 +8,9 @@ deceleration D = 0.9 * 9 = 8.1 (none, tightening) or 0.8 * 9 = 7.2
     d = v t_h + a t_h^2 / 2 + (v + a t_h)^2 / (2 D)
 
 A ``timeout_s`` of 0 means "in the cycle that receives the frame"; in real
-time every deadline gets the backend's scheduler slack.
+time every deadline gets the backend's scheduler slack. An object that
+appears, or jumps, is a new radar track: the ECU acts on it at its third
+consistent report, 100 ms after the first (ecu/core/track_confirmation.py).
 """
 
 from __future__ import annotations
@@ -18,7 +20,9 @@ import random
 import can
 import pytest
 
+from can_dbc.contract import cycle_time_s
 from ecu import ECU_CYCLE_S
+from ecu.core import CoreParams
 from ecu.bus_port import fault_flags_of
 from ecu.core.types import FaultFlag
 
@@ -33,6 +37,9 @@ PROXIMITY_MARGIN = 10.0
 CONTINGENCY_DECEL = 15.0
 STANDBY = {"Mode": 0, "OverrideActive": 0, "ThrottleLimit": 100.0, "BrakeDecelRequest": 0.0}
 TIMEOUT_BITS = (1 << FaultFlag.WHEEL_SPEED_TIMEOUT) | (1 << FaultFlag.DRIVER_INPUT_TIMEOUT) | (1 << FaultFlag.OBJECT_TIMEOUT)
+#: a new track is confirmed at its third report: two ObjectTrack periods after the first
+CONFIRM_S = (CoreParams().track_confirm_reports - 1) * cycle_time_s("ObjectTrack")
+CONTINGENCY = {"Mode": 2, "OverrideActive": 1, "ThrottleLimit": 0.0, "BrakeDecelRequest": 15.0}
 
 
 def stopping_distance(v: float, a: float, decel: float) -> float:
@@ -43,6 +50,14 @@ def proximity(range_m: float, v: float, decel: float) -> float:
     """Our formalisation: 1 - (margin of the nominal stopping path) / 10 m, clamped."""
     margin = range_m - STANDOFF - stopping_distance(v, A_DRV, decel)
     return min(1.0, max(0.0, 1.0 - margin / PROXIMITY_MARGIN))
+
+
+def expect_at_confirmation(h, signals, first_report_s: float):
+    """The first ``SafetyOverride`` matching ``signals`` comes at the new track's third report, not before."""
+    rec = h.expect("SafetyOverride", signals, timeout_s=CONFIRM_S, since_s=first_report_s)
+    assert rec.t_s >= first_report_s + CONFIRM_S - ECU_CYCLE_S / 2, \
+        f"acted on at {rec.t_s - first_report_s:.3f} s after the first report, before its confirmation"
+    return rec
 
 
 def test_startup_fault_then_standby_and_pass_through(start_ecu):
@@ -57,14 +72,14 @@ def test_startup_fault_then_standby_and_pass_through(start_ecu):
         assert f.signals == STANDBY
 
 
-def test_violating_object_gives_contingency_in_the_next_cycle(start_ecu):
+def test_violating_object_gives_contingency_in_the_cycle_that_confirms_it(start_ecu):
     h = start_ecu(strategy="none")
     drive(h, 20.0, range_m=200.0)
     in_standby(h)
     assert stopping_distance(20.0, A_DRV, 8.1) + STANDOFF > 25.0  # 29.73 m: violated at 25 m
     h.periodic("ObjectTrack", obj(25.0, -20.0), 0.05)
-    rec = h.expect("SafetyOverride", {"Mode": 2}, timeout_s=0.0, since_s=h.last_sent_s["ObjectTrack"])
-    assert rec.signals == {"Mode": 2, "OverrideActive": 1, "ThrottleLimit": 0.0, "BrakeDecelRequest": 15.0}
+    rec = expect_at_confirmation(h, {"Mode": 2}, h.last_sent_s["ObjectTrack"])
+    assert rec.signals == CONTINGENCY
 
 
 @pytest.mark.parametrize("range_m", [35.0, 31.0, 28.0])
@@ -76,7 +91,7 @@ def test_conservative_triggers_at_a_larger_range_than_none(start_ecu, range_m):
         in_standby(h)
         h.periodic("ObjectTrack", obj(range_m, -20.0), 0.05)
         p = proximity(range_m, 20.0, decel)
-        h.expect("EcuStatus", lambda s: abs(s["Proximity"] - p) <= 0.011, timeout_s=0.15)
+        h.expect("EcuStatus", lambda s: abs(s["Proximity"] - p) <= 0.011, timeout_s=CONFIRM_S + 0.15)
         frames = h.collect_steady("SafetyOverride", 0.05)
         modes = {f.signals["Mode"] for f in frames}
         assert len(modes) == 1, f"{strategy} at {range_m} m: modes {modes}"
@@ -120,12 +135,11 @@ def test_frames_with_a_bad_crc_are_ignored(start_ecu):
         h.send("ObjectTrack", obj(10.0, -20.0), bad_crc=True)
         frames = h.collect_steady("SafetyOverride", 0.03)
         assert frames and all(f.signals["Mode"] == 0 for f in frames)
-    # the same frame, intact: acted on. The periodic 200 m track stops first: in real time one
-    # of its frames could otherwise arrive after this one within the same ECU cycle and be the
-    # latest value the cycle sees (the ECU's object timeout, 250 ms, is far off)
-    h.periodic("ObjectTrack", None)
-    h.send("ObjectTrack", obj(10.0, -20.0))
-    h.expect("SafetyOverride", {"Mode": 2}, timeout_s=0.0, since_s=h.last_sent_s["ObjectTrack"])
+    # the same frame, intact and repeated: acted on once confirmed. It replaces the periodic 200 m
+    # track: in real time one of that track's frames could otherwise arrive after it within the
+    # same ECU cycle and be the latest value the cycle sees
+    h.periodic("ObjectTrack", obj(10.0, -20.0), 0.05)
+    expect_at_confirmation(h, {"Mode": 2}, h.last_sent_s["ObjectTrack"])
 
 
 def test_a_stuck_counter_makes_the_input_invalid(start_ecu):
@@ -185,5 +199,6 @@ def test_a_flood_of_unrelated_ids_changes_nothing(start_ecu):
                                     f"own sender stalls {h.own_stalls()}")
     _flood(h, rng, 100)
     h.periodic("ObjectTrack", obj(25.0, -20.0), 0.05)
+    first_report_s = h.last_sent_s["ObjectTrack"]
     _flood(h, rng, 100)
-    h.expect("SafetyOverride", {"Mode": 2}, timeout_s=0.0, since_s=h.last_sent_s["ObjectTrack"])
+    expect_at_confirmation(h, {"Mode": 2}, first_report_s)

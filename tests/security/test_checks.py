@@ -9,7 +9,9 @@ from can_dbc import RX_RATE, CounterSequence, Receiver, encode
 from ecu import EcuConfig, EcuNode
 from ecu.core import CoreInputs, CoreParams, CoreState, FaultFlag, Mode, step
 
-P = CoreParams(strategy="none")
+#: objects appear here from one cycle to the next, so track confirmation (tests/ecu/test_track_confirmation.py)
+#: is off: every valid report confirms itself
+P = CoreParams(strategy="none", track_confirm_reports=1)
 
 
 def _inputs(t, speed=20.0, wheels=None, range_m=None, rate=None, accel=0.5, brake=0.0, **extra):
