@@ -71,7 +71,8 @@ def _stopping_from_can_log(log: Path, start_s: float, t_s: np.ndarray) -> np.nda
                 values.append(status.decode(bytes(msg.data))["StoppingDistance"])
     if not times:
         return None
-    i = np.searchsorted(np.array(times), t_s + 1e-9, side="right") - 1
+    # the log's stamps are the start time plus the simulation time: rounded to 1 us, the epoch's rounding is gone
+    i = np.searchsorted(np.round(np.array(times), 6), t_s + 1e-9, side="right") - 1
     return np.where(i >= 0, np.array(values, dtype=float)[np.clip(i, 0, None)], np.nan)
 
 
