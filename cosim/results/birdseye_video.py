@@ -60,8 +60,10 @@ class VideoOptions:
 
 
 def _mp4(fps: float) -> dict:
+    # x264's ultrafast preset: 8 instead of 12.8 ms of CPU a 720p frame (veryfast), files 3.5x larger (about
+    # 1 MB for 15 s of these flat drawings); so ffmpeg, in its own process, keeps ahead of the drawing
     return {"codec": "libx264", "pix_fmt_out": "yuv420p", "quality": 6, "fps": fps,
-            "output_params": ["-preset", "veryfast"]}
+            "output_params": ["-preset", "ultrafast"]}
 
 
 def _gif(fps: float) -> dict:
