@@ -41,6 +41,7 @@ SUBCOMMANDS: dict[str, str] = {
     "scenarios": "cosim.cli.scenarios",
     "compare": "cosim.cli.compare",
     "sweep": "cosim.cli.sweep",
+    "animate": "cosim.cli.animate",
 }
 
 
