@@ -33,7 +33,7 @@ from ..results.plots import SeriesPlots, timeline
 from ..results.report import Verdict, fmt, write_report
 from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
-from ..results.run_record import RunRecord
+from ..results.run_record import RunRecord, timeseries_columns
 from ..scenarios.config import Scenario
 from ..world.plant import isolation_of
 from ..world.plant_fmu import fmu_shared
@@ -235,7 +235,8 @@ def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | 
     if last and ecu is not None and ecu.spare:
         ecu = dataclasses.replace(ecu, spare=False)
     show = progress(strategy) if progress else None
-    stream = RunStream(out_dir / strategy, logs, scenario.scenario.start_datetime) if out_dir is not None else None
+    stream = RunStream(out_dir / strategy, logs, scenario.scenario.start_datetime, timeseries_columns(scenario)) \
+        if out_dir is not None else None
     loop: ClosedLoop | None = None
     try:
         loop = ClosedLoop(scenario, fmu_path, strategy, ecu=ecu)

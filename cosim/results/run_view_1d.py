@@ -27,7 +27,10 @@ import numpy as np
 from ..scenarios.loader import load_scenario
 from ..world.reference_line import Line, PlanView
 from ..world.road import LaneSection, Road
+from ..world.ego import EgoBody
+from ..world.plant_fmu import PlantPose
 from ..world.scene import LANE_HALF_WIDTH_M, Scene
+from ..world.scene_build import build_objects
 from .run_view import (
     RunView, StrategyTrack, collision_event, floats, read_columns, with_collision,
 )
@@ -43,14 +46,16 @@ def straight_road(x0_m: float, x1_m: float) -> Road:
     return Road(plan, (LaneSection.uniform(0.0, left_m=(lane,), right_m=(lane,)),))
 
 
-def _object_poses(scenario, t_s: np.ndarray, bumper_m: np.ndarray) -> np.ndarray:
+def _object_poses(scenario, t_s: np.ndarray, position_m: np.ndarray) -> np.ndarray:
     """The objects' box centres over time (k, n, 3), replayed with the run's scene model."""
-    scene = Scene(scenario.scene_objects(), scenario.plant, scenario.radar, scenario.end)
+    body = EgoBody(scenario.plant)
+    scene = Scene(build_objects(scenario, None), body, scenario.radar, scenario.end)
     poses = np.zeros((len(scene.objects), len(t_s), 3))
-    for j, (t, bumper) in enumerate(zip(t_s.tolist(), bumper_m.tolist())):
-        scene.observe(t, bumper)
-        for i, (obj, rear, _, y, _) in enumerate(scene.states(t)):
-            poses[i, j, 0], poses[i, j, 1] = rear + obj.cfg.length_m / 2.0, y
+    for j, (t, x) in enumerate(zip(t_s.tolist(), position_m.tolist())):
+        scene.observe(t, body.at(PlantPose(x, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)))
+        for i, (obj, st) in enumerate(zip(scene.objects, scene.states(t))):
+            poses[i, j, 0], poses[i, j, 1] = obj.centre(st)
+            poses[i, j, 2] = st.yaw_rad
     return poses
 
 
@@ -88,7 +93,7 @@ def load_line_run(run_dir: Path, strategies: list[str], impacts: dict[str, float
         path = run_dir / strategy / "timeseries.csv"
         cols = read_columns(path)
         t_s, x = floats(cols, "time_s", path), floats(cols, "position_m", path)
-        objs = _object_poses(scenario, t_s, x + plant.front_bumper_offset_m)
+        objs = _object_poses(scenario, t_s, x)
         stopping = floats(cols, "stopping_distance_m", path) if "stopping_distance_m" in cols else \
             _stopping_from_can_log(run_dir / strategy / "can.blf", start_s, t_s)
         track = StrategyTrack(strategy, t_s, np.column_stack([x, np.zeros_like(x), np.zeros_like(x)]),

@@ -59,7 +59,8 @@ class RunStream:
     (asammdf) is written from the record when the stream closes.
     """
 
-    def __init__(self, run_dir: Path, can_logs: Sequence[str], start: datetime) -> None:
+    def __init__(self, run_dir: Path, can_logs: Sequence[str], start: datetime,
+                 columns: Sequence[str] = TIMESERIES_COLUMNS) -> None:
         run_dir.mkdir(parents=True, exist_ok=True)
         self._run_dir, self._start, self._start_s = run_dir, start, start.timestamp()
         self._rows = self._frames = 0
@@ -68,7 +69,7 @@ class RunStream:
         self._csv_file = open(run_dir / "timeseries.csv", "w", newline="")
         try:
             self._csv = csv.writer(self._csv_file)
-            self._csv.writerow(TIMESERIES_COLUMNS)
+            self._csv.writerow(columns)
             for name in can_logs:
                 if streamed(name):
                     self._writers.append(open_python_can_writer(run_dir / name, start))

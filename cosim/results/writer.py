@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Iterable
 
 from .events import event_counts
-from .run_record import TIMESERIES_COLUMNS, RunRecord
+from .run_record import RunRecord
 from ..scenarios.config import Scenario
 from ..scenarios.resolve import scenario_to_dict
 from ..scenarios.toml_writer import dumps
@@ -64,6 +64,8 @@ def write_metrics(path: Path, records: Iterable[RunRecord], prov: dict, status: 
         entry = {k: _finite(v) for k, v in r.metrics.as_dict().items()}
         entry["error"] = r.error
         entry.update(run_status(r))
+        if r.contact is not None:
+            entry["contact"] = r.contact
         runs.append(entry)
     write_json_atomic(path, {"status": status, "error": error, "runs": runs, "provenance": prov})
 
@@ -97,13 +99,13 @@ def timeseries_cells(row: tuple) -> list:
 def write_timeseries(path: Path, record: RunRecord) -> None:
     with open(path, "w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow(TIMESERIES_COLUMNS)
+        writer.writerow(record.columns)
         for row in record.rows:
             writer.writerow(timeseries_cells(row))
 
 
 def write_events(path: Path, record: RunRecord) -> None:
-    events = [{"t_s": e.t_s, "kind": e.kind, "detail": e.detail} for e in record.events]
+    events = [{"t_s": e.t_s, "kind": e.kind, "detail": e.detail, **(e.data or {})} for e in record.events]
     path.write_text(json.dumps({"events": events, "error": record.error}, indent=2) + "\n")
 
 
