@@ -34,6 +34,8 @@ from ..results.report import Verdict, fmt, write_report
 from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
 from ..results.run_record import RunRecord, timeseries_columns
+from ..results.run_view import SCENE_FILE
+from ..results.scene_file import scene_of, write_scene
 from ..scenarios.config import Scenario
 from ..world.plant import isolation_of
 from ..world.plant_fmu import fmu_shared
@@ -121,6 +123,8 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
         if out_dir is not None:
             out_dir.mkdir(parents=True, exist_ok=True)
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
+            if scenario.planar:  # the bird's-eye view's static part (docs/run-format.md)
+                write_scene(out_dir / SCENE_FILE, scene_of(scenario))
         run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
         series = _series(concurrent, strategies, ecu, plot_worker, fmu_path)
         profiles_drawn = series(scenario, strategies, run, records, out_dir)

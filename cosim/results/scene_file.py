@@ -15,6 +15,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ConfigError
+from ..scenarios.config import Scenario
+from ..world.scene_build import build_road
 from ..world.reference_line import Arc, Line, Placed, PlanView, Spiral
 from ..world.road import Lane, LaneSection, LaneWidth, Road
 
@@ -73,6 +75,16 @@ def _body_dict(body: Body) -> dict:
 
 def write_scene(path: Path, scene: SceneFile) -> None:
     Path(path).write_text(json.dumps(scene_to_dict(scene), indent=2) + "\n")
+
+
+def scene_of(scenario: Scenario) -> SceneFile:
+    """The ``scene.json`` of a planar run of ``scenario``: its road, the ego's box about the plant's pose point,
+    the objects' boxes about their centres (the pose columns the loop writes, cosim.results.run_record)."""
+    plant = scenario.plant
+    ego = Body("ego", "ego", plant.length_m, plant.width_m, plant.front_m)
+    objects = tuple(Body(o.name, o.target_class or "object", o.length_m, o.width_m, o.length_m / 2.0)
+                    for o in scenario.scene_objects())
+    return SceneFile(build_road(scenario.road), ego, objects)
 
 
 # -- reading -------------------------------------------------------------------------------------------

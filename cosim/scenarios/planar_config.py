@@ -218,8 +218,9 @@ class SteeringConfig:
     waypoints: tuple[tuple[float, float], ...] = setting((), unit="m", allowed=_WIDE,
                                                          doc="path_following: ... or these [x, y] points")
     lane_changes: tuple[LaneChangeConfig, ...] = setting((), doc="path_following with a lane: lane changes in order")
-    lookahead_time_s: float = setting(0.5, unit="s", allowed=Range(0.05, 5.0),
-                                      doc="pure pursuit: look-ahead as time of travel")
+    lookahead_time_s: float = setting(1.0, unit="s", allowed=Range(0.05, 5.0),
+                                      doc="pure pursuit: look-ahead as time of travel (1 s: drivers steer by the "
+                                          "road about 1 s ahead, Land & Horwood, Nature 377, 1995)")
     lookahead_min_m: float = setting(3.0, unit="m", allowed=Range(0.5, 100.0), doc="pure pursuit: shortest look-ahead")
     lookahead_max_m: float = setting(40.0, unit="m", allowed=Range(0.5, 500.0), doc="pure pursuit: longest look-ahead")
     wheelbase_m: float | None = setting(None, unit="m", allowed=Range(0.5, 20.0), doc="unset: the builtin plant's")
