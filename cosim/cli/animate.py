@@ -46,8 +46,7 @@ def _targets(args: argparse.Namespace, strategies: list[str]) -> dict[str, Path]
 
 
 def _do_animate(args: argparse.Namespace) -> int:
-    from ..results.birdseye import plot_birdseye
-    from ..results.birdseye_video import VideoOptions, render_video
+    from ..results.birdseye_video import VideoOptions
     from ..results.run_view import load_run_view
 
     start = time.perf_counter()
@@ -55,10 +54,35 @@ def _do_animate(args: argparse.Namespace) -> int:
     for strategy, video in _targets(args, list(view.tracks)).items():
         fps, width = FORMAT_DEFAULTS.get(video.suffix.lower(), FORMAT_DEFAULTS[".mp4"])
         options = VideoOptions(args.fps or fps, args.width or width, args.view_m, args.hold_s, args.playback)
-        video.parent.mkdir(parents=True, exist_ok=True)
-        frames = render_video(view, strategy, video, options)
-        print(f"{strategy}: {video} ({frames} frames, {options.width_px}x{options.height_px}, {options.fps:g} fps)")
-        if not args.no_png:
-            print(f"{strategy}: {plot_birdseye(view, strategy, args.run_dir / strategy / 'birdseye.png')}")
+        for line in _draw(view, strategy, video, options, png=not args.no_png):
+            print(line)
     print(f"done in {time.perf_counter() - start:.1f} s")
     return 0
+
+
+def _draw(view, strategy: str, video: Path | None, options, png: bool) -> list[str]:
+    """One strategy's video (None: none) and plot; the lines saying what was written."""
+    from ..results.birdseye import plot_birdseye
+    from ..results.birdseye_video import render_video
+
+    lines = []
+    if video is not None:
+        video.parent.mkdir(parents=True, exist_ok=True)
+        frames = render_video(view, strategy, video, options)
+        lines.append(f"{strategy}: {video} ({frames} frames, {options.width_px}x{options.height_px}, "
+                     f"{options.fps:g} fps)")
+    if png:
+        lines.append(f"{strategy}: {plot_birdseye(view, strategy, view.path / strategy / 'birdseye.png')}")
+    return lines
+
+
+def write_video(run_dir: Path, strategies: list[str]) -> list[str]:
+    """``crd run --video``: each strategy's ``birdseye.mp4`` as ``crd animate`` makes it by default, and its
+    ``birdseye.png`` where the run has none yet (a planar run has drawn it already; a 1-D run has not)."""
+    from ..results.birdseye_video import VideoOptions
+    from ..results.run_view import load_run_view
+
+    view = load_run_view(run_dir, strategies)
+    options = VideoOptions(*FORMAT_DEFAULTS[".mp4"])
+    return [line for s in strategies for line in
+            _draw(view, s, run_dir / s / "birdseye.mp4", options, png=not (run_dir / s / "birdseye.png").is_file())]

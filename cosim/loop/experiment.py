@@ -28,6 +28,7 @@ from .concurrent import cores, run_concurrently
 from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
+from ..results.birdseye import plot_run
 from ..results.plot_worker import PlotWorker
 from ..results.plots import SeriesPlots, timeline
 from ..results.report import Verdict, fmt, write_report
@@ -288,6 +289,8 @@ def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], j
         _speed_profiles(out_dir, scenario, records)
     plots = [("speed against position", "speed_profiles.png")]
     plots += [(f"{r.strategy}: timeline", f"{r.strategy}/timeline.png") for r in records]
+    if scenario.planar:
+        plots += plot_run(out_dir, [r.strategy for r in records if (out_dir / r.strategy / "timeseries.csv").is_file()])
     try:
         verdicts = judge(records)
     except (KeyError, ValueError) as exc:  # e.g. a run that stopped on an error before its first sample

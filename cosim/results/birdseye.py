@@ -10,13 +10,14 @@ drawing helpers here are shared with the video (:mod:`cosim.results.birdseye_vid
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
 from ..world.road import Road
 from .plots import _pyplot
-from .run_view import RunView, StrategyTrack, body_box
+from .run_view import RunView, StrategyTrack, body_box, load_run_view
 from .scene_file import Body
 
 ROAD_COLOR, MARKING_COLOR, EDGE_COLOR = "#d9d9d9", "white", "#555555"
@@ -175,3 +176,11 @@ def plot_birdseye(view: RunView, strategy: str, path: Path) -> Path:
     fig.savefig(path)
     plt.close(fig)
     return path
+
+
+def plot_run(run_dir: Path, strategies: Sequence[str]) -> list[tuple[str, str]]:
+    """``<strategy>/birdseye.png`` of each strategy of the run written to ``run_dir`` (every planar run gets
+    them); the report's (title, path relative to ``run_dir``) of each."""
+    view = load_run_view(run_dir, list(strategies))
+    return [(f"{s}: bird's-eye view", str(plot_birdseye(view, s, run_dir / s / "birdseye.png").relative_to(run_dir)))
+            for s in strategies]

@@ -160,12 +160,18 @@ def _nearest_point(box: Box, px: float, py: float) -> tuple[float, float]:
 
 
 def _in_view(box: Box, sx: float, sy: float, heading: float, half_fov: float) -> bool:
-    """Whether the box's angular extent seen from (sx, sy) overlaps ``heading ± half_fov``."""
-    corners = box.corners() - (sx, sy)
-    centre = math.atan2(box.y_m - sy, box.x_m - sx)
-    rel = (np.arctan2(corners[:, 1], corners[:, 0]) - centre + math.pi) % (2 * math.pi) - math.pi
-    lo = centre - heading + float(rel.min())
-    hi = centre - heading + float(rel.max())
+    """Whether the box's angular extent seen from (sx, sy) overlaps ``heading ± half_fov``.
+
+    The corners' azimuths relative to the centre's, wrapped to ±pi, give the extent (floats: four
+    ``atan2`` calls are cheaper than building an array for them).
+    """
+    (ux, uy), (nx, ny) = box.axes()
+    hl, hw = box.length_m / 2.0, box.width_m / 2.0
+    cx, cy = box.x_m - sx, box.y_m - sy
+    centre = math.atan2(cy, cx)
+    rel = [(math.atan2(cy + a * hl * uy + b * hw * ny, cx + a * hl * ux + b * hw * nx) - centre + math.pi)
+           % (2 * math.pi) - math.pi for a, b in ((1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0))]
+    lo, hi = centre - heading + min(rel), centre - heading + max(rel)
     return any(lo + shift <= half_fov and hi + shift >= -half_fov for shift in (-2 * math.pi, 0.0, 2 * math.pi))
 
 
@@ -174,12 +180,10 @@ def _measure(scan: Scan, params: Radar2DParams) -> dict[int, tuple[Track, bool]]
     sx, sy, heading, svx, svy = _sensor_pose(scan.ego, params.mount)
     c, s = math.cos(heading), math.sin(heading)
     objects = sorted(scan.objects, key=lambda o: o.id)
-    rng = np.random.default_rng((params.seed, scan.k))
-    noise = rng.standard_normal((len(objects), 4)) * params.noise_std
-    drops = rng.random(len(objects))
+    noise, drops = _draws(params, scan.k, len(objects))
     half_fov = math.radians(params.field_of_view_deg) / 2.0
     seen: dict[int, tuple[Track, bool]] = {}
-    for obj, n, draw in zip(objects, noise.tolist(), drops.tolist()):
+    for obj, n, draw in zip(objects, noise, drops):
         px, py = _nearest_point(obj.box, sx, sy)
         dx, dy = px - sx, py - sy
         if math.hypot(dx, dy) > params.max_range_m or not _in_view(obj.box, sx, sy, heading, half_fov):
@@ -189,6 +193,15 @@ def _measure(scan: Scan, params: Radar2DParams) -> dict[int, tuple[Track, bool]]
                       -s * vx + c * vy + n[3], 0.0, obj.size_class if obj.size_class in SIZE_CLASSES else "unknown")
         seen[obj.id] = (track, draw < params.dropout_probability)
     return seen
+
+
+def _draws(params: Radar2DParams, k: int, n: int) -> tuple[list, list]:
+    """Per object the four noise values and the dropout draw of scan ``k`` (module docstring). A radar without
+    noise and dropouts draws nothing: zeros and a draw of 1 give the same tracks, without a generator per scan."""
+    if not any(params.noise_std) and params.dropout_probability == 0.0:
+        return [[0.0, 0.0, 0.0, 0.0]] * n, [1.0] * n
+    rng = np.random.default_rng((params.seed, k))
+    return (rng.standard_normal((n, 4)) * params.noise_std).tolist(), rng.random(n).tolist()
 
 
 def _priority(track: Track) -> tuple[float, float, int]:

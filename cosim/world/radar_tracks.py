@@ -9,6 +9,8 @@ loop hands them to its frame builder on the cycles ``ObjectTrack`` goes out
 Mapping of ``[radar]``: the field of view, range and latency (in whole ECU cycles) as they are; the
 range noise on the track's x and y, the range-rate noise on its vx and vy; the dropout probability
 per track; the seed of the scenario. The sensor sits at the front bumper's centre, looking ahead.
+Only the scans a report will read (those ``latency`` cycles before a report cycle) carry the
+objects; the others are recorded empty, which changes no track.
 """
 
 from __future__ import annotations
@@ -42,8 +44,10 @@ class TrackFeed:
     def step(self, cycle: int, t_s: float, ego: Ego) -> tuple[Track, ...] | None:
         """The tracks of this cycle (``cycle`` counts ECU cycles from 0; call it on every one)."""
         pose = EgoPose(ego.x_m, ego.y_m, ego.yaw_rad, *self.scene.ego.velocity(ego), ego.yaw_rate_radps)
-        truths = tuple(ObjectTruth(obj.index, object_box(obj, st), object_motion(obj, st), obj.size_class)
-                       for obj, st in zip(self.scene.objects, self.scene.states(t_s)))
+        truths = ()
+        if (cycle + self.params.latency_cycles) % self.params.period_cycles == 0:  # a report will read this scan
+            truths = tuple(ObjectTruth(obj.index, object_box(obj, st), object_motion(obj, st), obj.size_class)
+                           for obj, st in zip(self.scene.objects, self.scene.states(t_s)))
         self.state, tracks = radar_step(self.state, Scan(cycle, pose, truths), self.params)
         if tracks is not None:
             self.latest = tracks

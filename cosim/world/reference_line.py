@@ -24,6 +24,7 @@ reference line continues straight along its end headings, so ``(s, t)`` is defin
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -35,7 +36,7 @@ _SPIRAL_KNOT_TURN_RAD = 0.25
 
 
 class Segment(Protocol):
-    """One kind of reference-line geometry, in its own frame."""
+    """One kind of reference-line geometry, in its own frame (arrays, and one float at a time: ``*_at``)."""
 
     length_m: float
 
@@ -44,6 +45,12 @@ class Segment(Protocol):
 
     def curvature(self, ds: np.ndarray) -> np.ndarray:
         """Curvature (1/m, positive to the left) at ``ds``."""
+
+    def local_at(self, ds: float) -> tuple[float, float, float]:
+        """:meth:`local` at one ``ds``, without numpy where the closed form allows (a moving object's hot path)."""
+
+    def curvature_at(self, ds: float) -> float:
+        """:meth:`curvature` at one ``ds``."""
 
 
 def _positive_length(length_m: float, kind: str) -> None:
@@ -67,6 +74,12 @@ class Line:
     def curvature(self, ds):
         return np.zeros_like(np.asarray(ds, dtype=float))
 
+    def local_at(self, ds: float) -> tuple[float, float, float]:
+        return ds, 0.0, 0.0
+
+    def curvature_at(self, ds: float) -> float:
+        return 0.0
+
 
 @dataclass(frozen=True, slots=True)
 class Arc:
@@ -88,6 +101,13 @@ class Arc:
 
     def curvature(self, ds):
         return np.full_like(np.asarray(ds, dtype=float), self.curvature_1pm)
+
+    def local_at(self, ds: float) -> tuple[float, float, float]:
+        k = self.curvature_1pm
+        return math.sin(k * ds) / k, (1.0 - math.cos(k * ds)) / k, k * ds
+
+    def curvature_at(self, ds: float) -> float:
+        return self.curvature_1pm
 
 
 @dataclass(frozen=True, slots=True)
@@ -134,6 +154,13 @@ class Spiral:
         ds = np.asarray(ds, dtype=float)
         return self.curvature_start_1pm + (self.curvature_end_1pm - self.curvature_start_1pm) * ds / self.length_m
 
+    def local_at(self, ds: float) -> tuple[float, float, float]:
+        x, y, h = self.local(ds)
+        return float(x), float(y), float(h)
+
+    def curvature_at(self, ds: float) -> float:
+        return self.curvature_start_1pm + (self.curvature_end_1pm - self.curvature_start_1pm) * ds / self.length_m
+
 
 @dataclass(frozen=True, slots=True)
 class Placed:
@@ -144,11 +171,21 @@ class Placed:
     y_m: float
     heading_rad: float
     segment: Segment
+    _cos_sin: tuple[float, float] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_cos_sin", (math.cos(self.heading_rad), math.sin(self.heading_rad)))
 
     def pose(self, ds):
         """(x, y, heading) in world coordinates at ``ds`` from this segment's start."""
         lx, ly, lh = self.segment.local(ds)
         c, s = math.cos(self.heading_rad), math.sin(self.heading_rad)
+        return self.x_m + c * lx - s * ly, self.y_m + s * lx + c * ly, self.heading_rad + lh
+
+    def pose_at(self, ds: float) -> tuple[float, float, float]:
+        """:meth:`pose` at one ``ds`` (floats)."""
+        lx, ly, lh = self.segment.local_at(ds)
+        c, s = self._cos_sin
         return self.x_m + c * lx - s * ly, self.y_m + s * lx + c * ly, self.heading_rad + lh
 
 
@@ -164,6 +201,7 @@ class PlanView:
         starts = [p.s_m for p in self.placed]
         if starts[0] != 0.0 or any(b <= a for a, b in zip(starts, starts[1:])):
             raise ValueError(f"plan view: expected segment starts increasing from 0, got {starts}")
+        object.__setattr__(self, "_starts", tuple(starts))
 
     @classmethod
     def chained(cls, segments: tuple[Segment, ...] | list[Segment], x_m: float = 0.0, y_m: float = 0.0,
@@ -199,6 +237,27 @@ class PlanView:
             beyond = s[m] - p.s_m - ds  # nonzero only before the start or after the end of the line
             x[m], y[m], h[m] = xi + beyond * np.cos(hi), yi + beyond * np.sin(hi), hi
         return x, y, h
+
+    def pose_at(self, s: float) -> tuple[float, float, float]:
+        """:meth:`pose` at one station ``s`` (floats; the same equations, no arrays)."""
+        return self.pose_curvature_at(s)[:3]
+
+    def pose_curvature_at(self, s: float) -> tuple[float, float, float, float]:
+        """(x, y, heading, curvature) at one station ``s``: :meth:`pose_at` and :meth:`curvature_at` in one look-up."""
+        p = self.placed[max(0, bisect.bisect_right(self._starts, s) - 1)]
+        ds = min(max(s - p.s_m, 0.0), p.segment.length_m)
+        x, y, h = p.pose_at(ds)
+        beyond = s - p.s_m - ds  # nonzero only before the start or after the end of the line
+        if beyond == 0.0:
+            return x, y, h, p.segment.curvature_at(ds)
+        return x + beyond * math.cos(h), y + beyond * math.sin(h), h, 0.0
+
+    def curvature_at(self, s: float) -> float:
+        """:meth:`curvature` at one station ``s``; 0 beyond the ends."""
+        if not 0.0 <= s <= self.length_m:
+            return 0.0
+        p = self.placed[max(0, bisect.bisect_right(self._starts, s) - 1)]
+        return p.segment.curvature_at(s - p.s_m)
 
     def curvature(self, s) -> np.ndarray:
         """Curvature (1/m) at ``s``; 0 beyond the ends."""

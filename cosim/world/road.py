@@ -126,6 +126,11 @@ class Road:
         t = np.asarray(t, dtype=float)
         return x - t * np.sin(h), y + t * np.cos(h), h
 
+    def pose_at(self, s_m: float, t_m: float = 0.0) -> tuple[float, float, float, float]:
+        """:meth:`pose` at one point (floats, no arrays), and the reference line's curvature there (1/m)."""
+        x, y, h, k = self.plan.pose_curvature_at(s_m)
+        return x - t_m * math.sin(h), y + t_m * math.cos(h), h, k
+
     def to_st(self, x_m: float, y_m: float) -> tuple[float, float]:
         """Road coordinates (s, t) of the world point (x, y): its projection on the reference line."""
         d2 = (self._samples[:, 1] - x_m) ** 2 + (self._samples[:, 2] - y_m) ** 2

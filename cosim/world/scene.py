@@ -78,10 +78,9 @@ def relative(obj: SceneObject, st: BodyState, ego: Ego) -> Relative:
     ax, ay = dx * c + dy * s, dy * c - dx * s
     cd, sd = st.cos_h * c + st.sin_h * s, st.sin_h * c - st.cos_h * s
     fore, aft, across = obj.front_m * cd, -obj.back_m * cd, obj.half_width_m * abs(sd)
-    return Relative(obj, st, ax + (min(fore, aft) - across), ax + (max(fore, aft) + across),
-                    ay + 0.5 * (obj.front_m - obj.back_m) * sd,
-                    0.5 * obj.length_m * abs(sd) + obj.half_width_m * abs(cd),
-                    st.vx_mps * c + st.vy_mps * s, sd == 0.0)
+    return Relative(obj, st, ax + (min(fore, aft) - across), ax + (max(fore, aft) + across), ay + obj.shift_m * sd,
+                    obj.half_length_m * abs(sd) + obj.half_width_m * abs(cd), st.vx_mps * c + st.vy_mps * s,
+                    sd == 0.0)
 
 
 class Scene:

@@ -96,9 +96,8 @@ class ContactWatch:
 
     def contact(self, t_s: float, ego: Ego) -> Hit | None:
         """The first watched object (in scene order) touching ``ego`` at ``t_s``, else None."""
-        states = self.scene.states(t_s)
-        for obj in self._watched:
-            r = relative(obj, states[obj.index], ego)
+        for obj in self._watched:  # only the watched objects' states: the others cannot touch within the cycle
+            r = relative(obj, obj.motion.state(t_s), ego)
             if self._touches(r, None, ego):
                 return self._hit(t_s, ego, r)
         self._before = (t_s, ego)

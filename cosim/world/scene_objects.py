@@ -47,8 +47,15 @@ class PathMotion:
         self._cos, self._sin = (1.0, 0.0) if origin is None else (math.cos(origin[2]), math.sin(origin[2]))
         self.brake_t_s: float | None = cfg.brake_at_s
         self.lateral_t_s: float | None = cfg.lateral_at_s
+        # standing, with no lateral motion: the profiles give the same state at every time (rear0 + 0.0 t is
+        # rear0, to the bit), worked out once
+        still = cfg.speed_mps == 0.0 and (cfg.lateral_end_m is None or cfg.lateral_speed_mps == 0.0)
+        self._still = self._state(0.0) if still else None
 
     def state(self, t_s: float) -> BodyState:
+        return self._still if self._still is not None else self._state(t_s)
+
+    def _state(self, t_s: float) -> BodyState:
         along, v = self.lon.state(t_s, self.brake_t_s)
         across, v_across = self.lat.state(t_s, self.lateral_t_s)
         if self._origin is None:
@@ -73,8 +80,14 @@ class BehaviourMotion:
     def __init__(self, behaviour: Behaviour) -> None:
         self.behaviour = behaviour
         self.started: BehaviourState = initial_state(behaviour)
+        self._waiting = self._state(0.0) if self.started.started_at_s is None else None  # at rest until it starts
 
     def state(self, t_s: float) -> BodyState:
+        if self.started.started_at_s is None:
+            return self._waiting
+        return self._state(t_s)
+
+    def _state(self, t_s: float) -> BodyState:
         k = kinematics(self.behaviour, self.started, t_s)
         return BodyState(k.x_m, k.y_m, k.yaw_rad, math.cos(k.yaw_rad), math.sin(k.yaw_rad), k.vx_mps, k.vy_mps,
                          k.yaw_rate_radps, k.speed_mps)
@@ -96,12 +109,12 @@ class SceneObject:
         self.index, self.cfg, self.name, self.motion = index, cfg, cfg.name, motion
         self.length_m, self.width_m = cfg.length_m, cfg.width_m
         self.front_m, self.back_m = front_m, cfg.length_m - front_m
-        self.half_width_m = cfg.width_m / 2.0
+        self.half_length_m, self.half_width_m = 0.5 * cfg.length_m, cfg.width_m / 2.0
+        self.shift_m = 0.5 * (self.front_m - self.back_m)  # reference point -> the box's centre, along the heading
         target = TARGET_CLASSES.get(cfg.target_class or "")
         self.kind = cfg.target_class or "object"
         self.size_class = target.size_class if target is not None else "unknown"
 
     def centre(self, st: BodyState) -> tuple[float, float]:
         """The box's centre (m) in the state ``st``."""
-        shift = 0.5 * (self.front_m - self.back_m)
-        return st.x_m + shift * st.cos_h, st.y_m + shift * st.sin_h
+        return st.x_m + self.shift_m * st.cos_h, st.y_m + self.shift_m * st.sin_h

@@ -112,7 +112,8 @@ class OffsetPath:
         if (stretch <= 0.0).any():
             raise ValueError(f"offset path: t_m={self.t_m} lies beyond the centre of curvature of the road")
         sigma = np.concatenate([[0.0], np.cumsum(0.5 * (stretch[1:] + stretch[:-1]) * np.diff(s))])
-        object.__setattr__(self, "_table", (s, sigma, plan.curvature(s)))
+        # as lists: pose() runs for every moving object at every step, and indexing lists is cheaper
+        object.__setattr__(self, "_table", (s.tolist(), sigma.tolist(), plan.curvature(s).tolist()))
 
     @property
     def length_m(self) -> float:
@@ -128,10 +129,8 @@ class OffsetPath:
         return float(s[i] + 2.0 * d_sigma / (a + math.sqrt(max(a * a + 4.0 * b * d_sigma, 0.0))))
 
     def pose(self, s_m: float) -> tuple[float, float, float, float]:
-        s = self._reference_s(s_m)
-        x, y, h = self.road.pose(s, self.t_m)
-        k = float(self.road.plan.curvature(s))
-        return float(x), float(y), float(h), k / (1.0 - k * self.t_m)
+        x, y, h, k = self.road.pose_at(self._reference_s(s_m), self.t_m)
+        return x, y, h, k / (1.0 - k * self.t_m)
 
 
 # -- speed profiles --------------------------------------------------------------------------------------

@@ -52,7 +52,9 @@ def test_unknown_scenario_name_is_one_line(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     assert crd(["run", "paper_cyclst"]) == 1
     err = capsys.readouterr().err.strip().splitlines()[-1]
-    assert err.startswith("error: paper_cyclst: scenario file not found") and "bundled: paper_cyclist" in err
+    assert err.startswith("error: paper_cyclst: scenario file not found")
+    bundled = err.split("(bundled: ", 1)[1].split(";", 1)[0].split(", ")
+    assert "paper_cyclist" in bundled and "lane_change_parked_car" in bundled
 
 
 def test_run_writes_report_md(tmp_path):
