@@ -95,3 +95,16 @@ def test_animate_errors_are_one_line(short_run, tmp_path, capsys):
     assert "no time series for strategy 'none'" in capsys.readouterr().err
     assert crd(["animate", str(short_run), "--width", "1000"]) == 1
     assert "steps of 32" in capsys.readouterr().err
+
+
+def test_crd_run_video_writes_the_mp4_and_the_plot_of_a_1d_run(tmp_path, capsys):
+    (tmp_path / "s.toml").write_text(SHORT)
+    assert crd(["run", str(tmp_path / "s.toml"), "--out", str(tmp_path / "plain")]) == 0
+    assert not (tmp_path / "plain" / "tightening" / "birdseye.png").exists()  # a 1-D run draws none by itself
+    assert crd(["run", str(tmp_path / "s.toml"), "--out", str(tmp_path / "run"), "--video"]) == 0
+    last_t = _column(tmp_path / "run", "time_s")[-1]
+    frames, _ = imageio_ffmpeg.count_frames_and_secs(str(tmp_path / "run" / "tightening" / "birdseye.mp4"))
+    assert frames == int(np.floor(last_t * 25 + 1e-9)) + 1 + 25  # crd animate's defaults: 25 fps, 1 s hold
+    with Image.open(tmp_path / "run" / "tightening" / "birdseye.png") as png:
+        assert png.size == (1200, 750)
+    assert "birdseye.mp4" in capsys.readouterr().out
