@@ -39,7 +39,7 @@ from ..results.run_view import SCENE_FILE
 from ..results.scene_file import scene_of, write_scene
 from ..scenarios.config import Scenario
 from ..world.plant import isolation_of
-from ..world.plant_fmu import fmu_shared
+from ..world.fmu_share import fmu_shared
 
 #: what a run is judged by in ``report.md``: (heading, verdicts) from the records
 Judge = Callable[[Sequence[RunRecord]], tuple[str, list[Verdict]]]
@@ -122,10 +122,7 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     status, error, profiles_drawn = "running", None, False
     try:
         if out_dir is not None:
-            out_dir.mkdir(parents=True, exist_ok=True)
-            write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
-            if scenario.planar:  # the bird's-eye view's static part (docs/run-format.md)
-                write_scene(out_dir / SCENE_FILE, scene_of(scenario))
+            _start_dir(out_dir, scenario)
         run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
         series = _series(concurrent, strategies, ecu, plot_worker, fmu_path)
         profiles_drawn = series(scenario, strategies, run, records, out_dir)
@@ -143,6 +140,15 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     if status == "interrupted":
         raise _interrupted(next(r for r in records if r.interrupted), out_dir)
     return records
+
+
+def _start_dir(out_dir: Path, scenario: Scenario) -> None:
+    """The run directory before the first run: ``metrics.json`` (running, no runs yet) and, for a planar
+    scenario, ``scene.json``, the bird's-eye view's static part (docs/run-format.md)."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    write_metrics(out_dir / "metrics.json", [], provenance(scenario, []), "running")
+    if scenario.planar:
+        write_scene(out_dir / SCENE_FILE, scene_of(scenario))
 
 
 def _series_status(records: Sequence[RunRecord]) -> str:
@@ -186,7 +192,7 @@ def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callab
                       fmu_path: Path) -> bool:
     """The runs in forked workers (:func:`cosim.loop.concurrent.run_concurrently`), ``metrics.json`` after
     each; whether ``speed_profiles.png`` has been drawn (by the plot worker, beside the last timeline).
-    A plant in this process is prepared here once (:func:`~cosim.world.plant_fmu.fmu_shared`: hashed,
+    A plant in this process is prepared here once (:func:`~cosim.world.fmu_share.fmu_shared`: hashed,
     parsed, extracted), not by each run: every worker inherits it, then loads the library once."""
 
     def on_record(done: list[RunRecord]) -> None:

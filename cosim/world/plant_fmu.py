@@ -19,19 +19,17 @@ vehicle speed on every wheel when the FMU has no wheel outputs.
 from __future__ import annotations
 
 import ctypes
-import hashlib
 import logging
 import shutil
-import threading
-from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator, NamedTuple
+from typing import NamedTuple
 
-from fmpy import extract, read_model_description
+from fmpy import extract
 from fmpy.fmi1 import FMICallException
 
 from ..errors import FmiStepError, MappingError, PlantError
 from ..scenarios.config import PLANAR_OUTPUT_ROLES, PlantConfig, SignalMap
+from .fmu_share import SHARED, file_sha256, read_md
 
 log = logging.getLogger(__name__)
 
@@ -79,14 +77,6 @@ class PlantPose(NamedTuple):
 _OUTPUT_ORDER = ("position", "speed", "accel", "wheel_speeds", *PLANAR_OUTPUT_ROLES)
 
 
-def file_sha256(path: Path) -> str:
-    digest = hashlib.sha256()
-    with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(1 << 16), b""):
-            digest.update(block)
-    return digest.hexdigest()
-
-
 def _variables_by(md, causality: str) -> list[str]:
     return sorted(v.name for v in md.modelVariables if v.causality == causality)
 
@@ -106,102 +96,6 @@ def _resolve(md, names: tuple[str, ...], causality: str, where: str) -> list:
     return found
 
 
-def _read_md(path: Path):
-    try:
-        return read_model_description(str(path))
-    except Exception as exc:  # noqa: BLE001 - any broken archive becomes one typed error
-        raise PlantError(f"{path}: not a readable FMU: {exc}") from exc
-
-
-class SharedFmu:
-    """One FMU file prepared once for many runs in this process (a sweep worker): hashed, its model
-    description read, extracted, and (at the first plant) its shared library loaded.
-
-    A :class:`FmuPlant` opened on the path of a shared FMU (:func:`share_fmu`) skips all that and
-    reuses the loaded library (fmpy's ``FMU2Slave``/``FMU3Slave`` object): it instantiates its own
-    instance and, when closed, terminates and frees only that instance (``fmi2FreeInstance`` /
-    ``fmi3FreeInstance``), leaving the library loaded. FMI allows instances to come and go in one
-    loaded library; a run's results are bit-identical to a fresh load (``tests/cosim/test_sweep_reuse.py``).
-    One plant uses it at a time; a second one opened meanwhile loads its own copy as usual.
-    """
-
-    def __init__(self, path: Path) -> None:
-        self.path = Path(path)
-        self.sha256, self.md = file_sha256(self.path), _read_md(self.path)
-        self.unzipdir = extract(str(self.path))
-        self.slave = None  # fmpy FMU2Slave/FMU3Slave, made by the first plant
-        self.retired = False  # unshared while busy: closed by the plant using it
-        self._lock = threading.Lock()  # held by the plant using it (a worker may run several threads)
-
-    @property
-    def busy(self) -> bool:
-        return self._lock.locked()
-
-    def claim(self) -> bool:
-        """Take it for one plant; False when another plant has it."""
-        return self._lock.acquire(blocking=False)
-
-    def unclaim(self) -> None:
-        self._lock.release()
-        if self.retired:
-            self.close()
-
-    def release(self, fmu) -> None:
-        """Terminate and free one plant's instance; the library stays loaded."""
-        if fmu.component is None:
-            return
-        try:
-            fmu.terminate()
-        except FMICallException as exc:
-            log.warning("plant FMU terminate failed: %s", exc)
-        try:
-            getattr(fmu, f"fmi{self.md.fmiVersion[0]}FreeInstance")(fmu.component)
-        except Exception as exc:  # noqa: BLE001 - best effort after a failure
-            log.warning("plant FMU freeInstance failed: %s", exc)
-        fmu.component = None
-
-    def close(self) -> None:
-        """Unload the library and delete the extraction (no plant may be using it)."""
-        slave, self.slave = self.slave, None
-        if slave is not None:
-            slave.freeLibrary()
-        shutil.rmtree(self.unzipdir, ignore_errors=True)
-
-
-_SHARED: dict[Path, SharedFmu] = {}  # path -> prepared FMU, in this process
-
-
-def share_fmu(path: Path) -> SharedFmu:
-    """Prepare the FMU at ``path`` once for every later :class:`FmuPlant` on that path in this process."""
-    path = Path(path)
-    shared = _SHARED.get(path)
-    if shared is None:
-        shared = _SHARED[path] = SharedFmu(path)
-    return shared
-
-
-@contextmanager
-def fmu_shared(path: Path) -> Iterator[SharedFmu]:
-    """:func:`share_fmu` for the block, unshared after (unless it was shared before): e.g. prepared once
-    in a parent before it forks run workers, which then neither parse nor extract it again."""
-    owned = Path(path) not in _SHARED
-    shared = share_fmu(path)
-    try:
-        yield shared
-    finally:
-        if owned:
-            unshare_fmu(path)
-
-
-def unshare_fmu(path: Path) -> None:
-    """Forget (and unload) the shared FMU at ``path``; plants opened later load it per run again."""
-    shared = _SHARED.pop(Path(path), None)
-    if shared is not None:
-        shared.retired = True
-        if not shared.busy:  # else the plant using it closes it when it closes
-            shared.close()
-
-
 class FmuPlant:
     """The plant FMU, instantiated, initialised and ready to :meth:`step`."""
 
@@ -209,8 +103,8 @@ class FmuPlant:
         self.path = Path(fmu_path)
         if not self.path.is_file():
             raise PlantError(f"plant FMU not found: expected a file at {self.path}")
-        shared = _SHARED.get(self.path)  # prepared once for many runs (a sweep worker), or None
-        self.sha256, md = (shared.sha256, shared.md) if shared else (file_sha256(self.path), _read_md(self.path))
+        shared = SHARED.get(self.path)  # prepared once for many runs (a sweep worker), or None
+        self.sha256, md = (shared.sha256, shared.md) if shared else (file_sha256(self.path), read_md(self.path))
         if md.coSimulation is None:
             raise PlantError(f"{self.path}: expected a co-simulation FMU, got model exchange only")
         self.fmi_version = int(md.fmiVersion[0])

@@ -46,7 +46,8 @@ from pathlib import Path
 
 from ..errors import FmiStepError, PlantError
 from ..scenarios.config import PLANAR_OUTPUT_ROLES, PlantConfig
-from .plant_fmu import FmuPlant, PlantPose, PlantSample, file_sha256
+from .fmu_share import file_sha256
+from .plant_fmu import FmuPlant, PlantPose, PlantSample
 
 log = logging.getLogger(__name__)
 
