@@ -36,6 +36,7 @@ SUBCOMMANDS: dict[str, str] = {
     "compare": "cosim.cli.compare",
     "export": "cosim.cli.export",
     "sweep": "cosim.cli.sweep",
+    "animate": "cosim.cli.animate",
 }
 
 

@@ -5,6 +5,8 @@ the equipped car; docs/openscenario.md) or the name of a bundled scenario (``crd
 ``--can-log`` adds a CAN log besides ``can.blf`` and may be given several times
 (``.blf``, ``.asc``, ``.mf4``, ...; checked before the run starts). Writes
 ``report.md`` with the table, the checks, the plots and the resolved configuration.
+``--video`` adds the bird's-eye video ``<strategy>/birdseye.mp4`` (``crd animate``'s, drawn from the run's
+files); a planar run's ``birdseye.png`` is drawn with or without it.
 
 Exit status:
 
@@ -38,6 +40,7 @@ from .export import add_record_option, check_record, record_run
 from .progress import end_progress, progress_printer, results_table
 from .signals import interruptible
 from ..results.events import EXIT_FAULT_EVENT, unexpected_faults
+from .animate import write_video
 from .scenarios import find_scenario
 
 EXIT_CHECK_FAILED = 3
@@ -53,6 +56,8 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--can-log", action="append", default=[], metavar="NAME",
                    help="another CAN log besides can.blf; repeatable; the suffix picks the format"
                         f" ({', '.join(LOG_FORMATS)}; .mf4 needs crd[mdf])")
+    p.add_argument("--video", action="store_true",
+                   help="also write the bird's-eye video <strategy>/birdseye.mp4 (as crd animate does)")
     add_ecu_arguments(p, realtime=True)
     add_record_option(p)
     p.set_defaults(func=interruptible(_do_run))
@@ -80,5 +85,8 @@ def _do_run(args: argparse.Namespace) -> int:
     faults = unexpected_faults(records, scenario.checks.expect_events)
     for line in faults:
         print(f"FAULT: {line}")
+    if args.video:
+        for line in write_video(args.out, [strategy]):
+            print(line)
     print(f"report: {args.out / 'report.md'}")
     return EXIT_CHECK_FAILED if failed else (EXIT_FAULT_EVENT if faults else 0)

@@ -28,14 +28,17 @@ from .concurrent import cores, run_concurrently
 from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
+from ..results.birdseye import plot_run
 from ..results.plots import preload_matplotlib, speed_profiles, timeline
 from ..results.report import Verdict, fmt, write_report
 from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
-from ..results.run_record import RunRecord
+from ..results.run_record import RunRecord, timeseries_columns
+from ..results.run_view import SCENE_FILE
+from ..results.scene_file import scene_of, write_scene
 from ..scenarios.config import Scenario
 from ..world.plant import isolation_of
-from ..world.plant_fmu import fmu_shared
+from ..world.fmu_share import fmu_shared
 
 #: what a run is judged by in ``report.md``: (heading, verdicts) from the records
 Judge = Callable[[Sequence[RunRecord]], tuple[str, list[Verdict]]]
@@ -118,8 +121,7 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     status, error = "running", None
     try:
         if out_dir is not None:
-            out_dir.mkdir(parents=True, exist_ok=True)
-            write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), status)
+            _start_dir(out_dir, scenario)
         run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
         series = _series(concurrent, strategies, ecu, fmu_path)
         series(scenario, strategies, run, records, out_dir)
@@ -137,6 +139,15 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     if status == "interrupted":
         raise _interrupted(next(r for r in records if r.interrupted), out_dir)
     return records
+
+
+def _start_dir(out_dir: Path, scenario: Scenario) -> None:
+    """The run directory before the first run: ``metrics.json`` (running, no runs yet) and, for a planar
+    scenario, ``scene.json``, the bird's-eye view's static part (docs/run-format.md)."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    write_metrics(out_dir / "metrics.json", [], provenance(scenario, []), "running")
+    if scenario.planar:
+        write_scene(out_dir / SCENE_FILE, scene_of(scenario))
 
 
 def _series_status(records: Sequence[RunRecord]) -> str:
@@ -178,7 +189,7 @@ def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callab
                       records: list[RunRecord], out_dir: Path | None, fmu_path: Path) -> None:
     """The runs in worker processes (:func:`cosim.loop.concurrent.run_concurrently`); here, each run's
     timeline and ``metrics.json`` as its record comes in, and matplotlib imported while the first runs go.
-    A plant in this process is prepared once (:func:`~cosim.world.plant_fmu.fmu_shared`: hashed, parsed,
+    A plant in this process is prepared once (:func:`~cosim.world.fmu_share.fmu_shared`: hashed, parsed,
     extracted), and every worker inherits it."""
 
     def on_record(record: RunRecord, done: list[RunRecord]) -> None:
@@ -236,7 +247,8 @@ def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | 
     if last and ecu is not None and ecu.spare:
         ecu = dataclasses.replace(ecu, spare=False)
     show = progress(strategy) if progress else None
-    stream = RunStream(out_dir / strategy, logs, scenario.scenario.start_datetime) if out_dir is not None else None
+    stream = RunStream(out_dir / strategy, logs, scenario.scenario.start_datetime, timeseries_columns(scenario)) \
+        if out_dir is not None else None
     loop: ClosedLoop | None = None
     try:
         loop = ClosedLoop(scenario, fmu_path, strategy, ecu=ecu)
@@ -282,6 +294,8 @@ def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], j
     _speed_profiles(out_dir, scenario, records)
     plots = [("speed against position", "speed_profiles.png")]
     plots += [(f"{r.strategy}: timeline", f"{r.strategy}/timeline.png") for r in records]
+    if scenario.planar:
+        plots += plot_run(out_dir, [r.strategy for r in records if (out_dir / r.strategy / "timeseries.csv").is_file()])
     try:
         verdicts = judge(records)
     except (KeyError, ValueError) as exc:  # e.g. a run that stopped on an error before its first sample

@@ -68,11 +68,18 @@ from ..results.held_signals import SafePoints
 from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S, Scenario
 from ..world.driver_models import Pedals, make_driver
+from ..world.ego import Ego, EgoBody
 from ..world.gateway import Actuation, Gateway
 from ..world.plant import finite_check, open_plant
 from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, PlantSample
+from ..world.radar2d import Track
 from ..world.radar_model import RadarModel
+from ..world.radar_tracks import TrackFeed, radar_params
 from ..world.scene import Scene
+from ..world.scene_build import build_objects, build_road
+from ..world.scene_contact import ContactWatch, Hit
+from ..world.steering_models import make_steering
+from ..results.run_record import pose_cells, timeseries_columns
 from .phase_timer import PHASES, PhaseTimer, instrument
 
 log = logging.getLogger(__name__)
@@ -99,10 +106,12 @@ class _Outgoing:
     ``object.__setattr__``; nothing mutates it.
     """
 
-    __slots__ = ("sample", "pedals", "gap_m", "frames")
+    __slots__ = ("sample", "ego", "pedals", "steering_rad", "gap_m", "frames")
 
-    def __init__(self, sample: PlantSample, pedals: Pedals, gap_m: float, frames: list) -> None:
-        self.sample, self.pedals, self.gap_m, self.frames = sample, pedals, gap_m, frames
+    def __init__(self, sample: PlantSample, ego: Ego, pedals: Pedals, steering_rad: float, gap_m: float,
+                 frames: list) -> None:
+        self.sample, self.ego, self.pedals, self.steering_rad = sample, ego, pedals, steering_rad
+        self.gap_m, self.frames = gap_m, frames
 
 
 class ClosedLoop:
@@ -116,17 +125,14 @@ class ClosedLoop:
         self.h_s = scenario.scenario.step_s
         self.n_sub = int(round(ECU_CYCLE_S / self.h_s))
         self.n_track = int(round(OBJECT_TRACK_PERIOD_S / ECU_CYCLE_S))
-        self._bumper_offset_m = scenario.plant.front_bumper_offset_m
-        self.scene = Scene(scenario.scene_objects(), scenario.plant, scenario.radar, scenario.end)
-        self._has_scene = bool(self.scene)  # its objects are fixed: asked once, not 4x per cycle (Scene.__bool__)
-        self._bumper_m = 0.0  # front bumper at this cycle's first half (m): the contact look-ahead's start
+        self._world(scenario)
         self.driver = make_driver(scenario.driver)
         self.radar = RadarModel(scenario.radar, default_rng(scenario.scenario.seed))
         self.ecu = ecu if ecu is not None else EcuOptions()
         key = run_key(self.ecu, self._ecu_cfg)  # SecOC: None means E2E protection only
         self._signer = SecOcSender(key) if key is not None else None
         self.gateway = Gateway(scenario.gateway, conflict_window_cycles=10 if self.ecu.realtime else 1, key=key)
-        self.record = RunRecord(self.strategy, RunMetrics(self.strategy))
+        self.record = RunRecord(self.strategy, RunMetrics(self.strategy), columns=timeseries_columns(scenario))
         # bound once: next() of each message's E2E counter (C-level), called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
             CounterSequence().next for _ in range(3))
@@ -146,8 +152,24 @@ class ClosedLoop:
         self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
         self._timer: PhaseTimer | None = instrument(self) if profile else None
 
+    def _world(self, scenario: Scenario) -> None:
+        """The road, the ego's body, the scene and its contact watch, the steering, the 2-D radar (planar runs)."""
+        road = build_road(scenario.road)
+        self.ego_body = EgoBody(scenario.plant)
+        self.scene = Scene(build_objects(scenario, road), self.ego_body, scenario.radar, scenario.end)
+        self._has_scene = bool(self.scene)  # its objects are fixed: asked once, not 4x per cycle (Scene.__bool__)
+        self.watch = ContactWatch(self.scene)
+        self.steering = make_steering(scenario.driver.steering, road, scenario.plant)
+        #: planar runs: pose columns, the contact in metrics and events, the 2-D tracks every radar cycle
+        self.planar = scenario.planar
+        self.tracks = TrackFeed(self.scene, radar_params(scenario.radar, self.ego_body, scenario.scenario.seed)) \
+            if self.planar else None
+
     # -- one cycle ------------------------------------------------------------
-    def _frames_out(self, cycle: int, sample: PlantSample, pedals: Pedals) -> list:
+    def _frames_out(self, cycle: int, sample: PlantSample, pedals: Pedals,
+                    tracks: tuple[Track, ...] | None = None) -> list:
+        """This cycle's frames to the ECU. ``tracks``: the 2-D radar's tracks on its report cycles (the same
+        cycles as ``ObjectTrack``; None on the others, and in 1-D runs), for the planar contract to encode."""
         top, k = _WHEEL_MAX_KMH, KMH_PER_MPS
         # the four clamps written out, not a list comprehension (1.08 instead of 1.39 µs, timeit)
         w_fl, w_fr, w_rl, w_rr = sample.wheel_speeds_mps
@@ -175,17 +197,19 @@ class ClosedLoop:
         sample = self.plant.read()
         self._check_sample(sample, t_s)
         scene, has_scene = self.scene, self._has_scene
-        bumper_m = self._bumper_m = sample.position_m + self._bumper_offset_m
-        gap_m = scene.observe(t_s, bumper_m) if has_scene else float("inf")
+        ego = self.ego_body.at(sample)
+        gap_m = scene.observe(t_s, ego) if has_scene else float("inf")
         pedals = self.driver(t_s, sample.position_m, sample.speed_mps)
-        truth = scene.radar_truth(t_s, bumper_m, sample.speed_mps) if has_scene else None
+        steering_rad = 0.0 if self.steering is None else self.steering(t_s, ego)
+        truth = scene.radar_truth(t_s, ego) if has_scene else None
         if truth is not None:
             self.radar.sample(truth.gap_m, truth.range_rate_mps, truth.lateral_m)
         else:
             self.radar.sample(None, 0.0)
-        frames = self._frames_out(cycle, sample, pedals)
+        tracks = None if self.tracks is None else self.tracks.step(cycle, t_s, ego)
+        frames = self._frames_out(cycle, sample, pedals, tracks)
         frames.extend(self.link.send(t_s, cycle, frames))
-        return _Outgoing(sample, pedals, gap_m, frames)
+        return _Outgoing(sample, ego, pedals, steering_rad, gap_m, frames)
 
     def _cycle_in(self, t_s: float, cycle: int, out: _Outgoing, applied: Actuation) -> Actuation:
         """Second half: take the ECU's frames, compute next cycle's commands, log the cycle."""
@@ -193,7 +217,7 @@ class ClosedLoop:
         offer = self.gateway.offer
         for msg in received:
             offer(msg, t_s)
-        nxt = self.gateway.actuation(out.pedals, t_s)
+        nxt = self.gateway.actuation(out.pedals, t_s, out.steering_rad)
         self._log_cycle(t_s, out, received, applied)
         return nxt
 
@@ -206,41 +230,48 @@ class ClosedLoop:
             append(LoggedFrame._make((t_s, msg.arbitration_id, bytes(msg.data))))
         sample, pedals, gap_m = out.sample, out.pedals, out.gap_m
         speed_mps = sample.speed_mps
-        self.record.rows.append((t_s, sample.position_m, speed_mps, sample.accel_mps2, applied.throttle,
-                                 applied.brake, self.gateway.mode, gap_m, pedals.accel_pct, pedals.brake_pct))
+        row = (t_s, sample.position_m, speed_mps, sample.accel_mps2, applied.throttle, applied.brake,
+               self.gateway.mode, gap_m, pedals.accel_pct, pedals.brake_pct)
+        if self.planar:
+            row += pose_cells(out.ego, applied.steering_wheel_angle_rad, self.scene, t_s)
+        self.record.rows.append(row)
         # the metrics' running extremes here, where the row is built (once a cycle, after the ECU's
         # frames), not in a call of their own that read the row back (0.39 instead of 0.44-0.52 µs, timeit)
         m = self.record.metrics
         m.min_gap_m = gap_m if m.min_gap_m is None else min(m.min_gap_m, gap_m)
         m.max_speed_mps = max(m.max_speed_mps, speed_mps)
 
-    def _advance(self, k: int, applied: Actuation, gap_m: float, speed_mps: float) -> tuple[int, bool]:
-        """Advance the plant one ECU cycle; returns the new ``k`` and whether it collided."""
-        plant, h, scene = self.plant, self.h_s, self.scene
-        plant.set_actuation(applied.throttle, applied.brake)
+    def _advance(self, k: int, applied: Actuation, ego: Ego) -> tuple[int, bool]:
+        """Advance the plant one ECU cycle from the ego at its start; returns the new ``k`` and whether it collided."""
+        plant, h, watch = self.plant, self.h_s, self.watch
+        plant.set_actuation(applied.throttle, applied.brake, applied.steering_wheel_angle_rad)
         span = self.n_sub * h
-        watch = self._has_scene and scene.may_contact(k * h, self._bumper_m, speed_mps, span)
-        if self.batch_steps and not watch:
+        watching = self._has_scene and watch.candidates(k * h, ego, span)
+        if self.batch_steps and not watching:
             plant.step(k * h, span)
             return k + self.n_sub, False
         for _ in range(self.n_sub):
             plant.step(k * h, h)
             k += 1
-            if watch:
-                pos, v = plant.position_speed()
-                hit = scene.contact(k * h, pos + self._bumper_offset_m)
+            if watching:
+                hit = watch.contact(k * h, self.ego_body.at(plant.pose()))
                 if hit is not None:
-                    self._collide(k * h, hit[1], v - hit[0].lon_state(k * h)[1])
+                    self._collide(hit)
                     return k, True
         return k, False
 
-    def _collide(self, t_s: float, gap_m: float, closing_mps: float) -> None:
+    def _collide(self, hit: Hit) -> None:
         m = self.record.metrics
         m.collided = True
-        m.impact_speed_mps = closing_mps
-        m.min_gap_m = gap_m if m.min_gap_m is None else min(m.min_gap_m, gap_m)
-        self.record.events.append(RunEvent(t_s, "collision", f"relative impact speed {m.impact_speed_mps:.3f} m/s"))
-        log.info("%s: collision at t=%.3f s, %.2f m/s", self.strategy, t_s, m.impact_speed_mps)
+        m.impact_speed_mps = hit.impact_speed_mps
+        m.min_gap_m = hit.gap_m if m.min_gap_m is None else min(m.min_gap_m, hit.gap_m)
+        detail = f"relative impact speed {m.impact_speed_mps:.3f} m/s"
+        data = None
+        if self.planar:  # 1-D runs keep their files as they were
+            self.record.contact = hit.as_dict()
+            data = {k: self.record.contact[k] for k in ("x_m", "y_m", "normal", "object")}
+        self.record.events.append(RunEvent(hit.t_s, "collision", detail, data))
+        log.info("%s: collision at t=%.3f s, %.2f m/s", self.strategy, hit.t_s, m.impact_speed_mps)
 
     # -- the run -----------------------------------------------------------------
     def run(self, progress: Progress | None = None) -> RunRecord:
@@ -248,7 +279,7 @@ class ClosedLoop:
         wall0 = time.perf_counter()
         duration_s = self.sc.scenario.duration_s
         total_k = int(round(duration_s / self.h_s))
-        k, cycle, applied = 0, 0, Actuation(0.0, 0.0)
+        k, cycle, applied = 0, 0, Actuation(0.0, 0.0, 0.0)
         try:
             self.link.start()
             with SafePoints() as signals:  # a signal ends the run between two cycles, never within one
@@ -257,9 +288,9 @@ class ClosedLoop:
                     t_s = k * self.h_s
                     out = self._cycle_out(t_s, cycle)
                     nxt = self._cycle_in(t_s, cycle, out, applied)
-                    if self._ended(t_s, out.sample.speed_mps):
+                    if self._ended(t_s, out.ego):
                         break
-                    k, collided = self._advance(k, applied, out.gap_m, out.sample.speed_mps)
+                    k, collided = self._advance(k, applied, out.ego)
                     applied, cycle = nxt, cycle + 1
                     if progress is not None and cycle % 100 == 0:
                         progress(k * self.h_s, duration_s)
@@ -288,9 +319,9 @@ class ClosedLoop:
         self.record.events.append(RunEvent(t_s, kind, message))
         log.error("%s: %s", self.strategy, message)
 
-    def _ended(self, t_s: float, speed_mps: float) -> bool:
+    def _ended(self, t_s: float, ego: Ego) -> bool:
         """An ``[end]`` condition has been met (recorded as an ``end`` event)."""
-        reason = self.scene.end_reason(t_s, self._bumper_m, speed_mps) if self._has_scene else None
+        reason = self.scene.end_reason(t_s, ego) if self._has_scene else None
         if reason is not None:
             self.record.metrics.end_reason = reason
             self.record.events.append(RunEvent(t_s, "end", reason))
@@ -300,7 +331,7 @@ class ClosedLoop:
         """Final sample at the end of the run (outputs after the last step)."""
         sample = self.plant.read()
         self._check_sample(sample, t_s)
-        gap = self.scene.path_gap(t_s, sample.position_m + self._bumper_offset_m)[0] if self.scene else None
+        gap = self.scene.path_gap(t_s, self.ego_body.at(sample))[0] if self.scene else None
         gap = gap if gap is None or math.isfinite(gap) else None
         m = self.record.metrics
         m.final_gap_m = gap

@@ -8,7 +8,8 @@ profiling branches: an uninstrumented run calls the real objects directly.
 
 Phases: ``fmu`` (every FMU call), ``codec`` (encoding the master's frames,
 the gateway's checks), ``bus`` (moving frames), ``ecu`` (the in-process
-node's cycle), ``logging`` (the run record), ``models`` (driver and radar).
+node's cycle), ``logging`` (the run record), ``models`` (driver, steering and radar), ``world`` (the
+scene: objects, gaps, the radar's object, contact, the 2-D radar's tracks).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from ..link.in_process import InProcessLink
 if TYPE_CHECKING:
     from .master import ClosedLoop
 
-PHASES = ("fmu", "codec", "bus", "ecu", "logging", "models")
+PHASES = ("fmu", "codec", "bus", "ecu", "logging", "models", "world")
 
 
 class PhaseTimer:
@@ -65,7 +66,7 @@ class Timed:
 def instrument(loop: "ClosedLoop") -> PhaseTimer:
     """Time ``loop``'s phases from now on; returns the timer."""
     timer = PhaseTimer()
-    loop.plant = Timed(loop.plant, timer, {m: "fmu" for m in ("read", "step", "set_actuation", "position_speed")})
+    loop.plant = Timed(loop.plant, timer, {m: "fmu" for m in ("read", "step", "set_actuation", "pose")})
     if isinstance(loop.link, InProcessLink):
         loop.link.time_phases(timer.timed)
     loop.link = Timed(loop.link, timer, {"send": "bus", "collect": "bus", "pace": "bus"})
@@ -74,4 +75,11 @@ def instrument(loop: "ClosedLoop") -> PhaseTimer:
     loop.radar = Timed(loop.radar, timer, {"sample": "models", "measure": "models"})
     loop._frames_out = timer.timed("codec", loop._frames_out)
     loop._log_cycle = timer.timed("logging", loop._log_cycle)
+    loop.scene = Timed(loop.scene, timer, {"observe": "world", "radar_truth": "world", "end_reason": "world",
+                                           "path_gap": "world"})
+    loop.watch = Timed(loop.watch, timer, {"candidates": "world", "contact": "world"})
+    if loop.steering is not None:
+        loop.steering = timer.timed("models", loop.steering)
+    if loop.tracks is not None:
+        loop.tracks = Timed(loop.tracks, timer, {"step": "world"})
     return timer

@@ -225,7 +225,7 @@ def active_end_s(record: RunRecord) -> float:
         return 0.0
     last = rows[-1]
     for row in reversed(rows):
-        t, _, v, _, throttle, brake, mode, gap, acc, brk = row
+        t, _, v, _, throttle, brake, mode, gap, acc, brk = row[:10]
         if (abs(v - last[2]) >= 0.01 or abs(gap - last[7]) >= 0.01 or mode != last[6]
                 or (throttle, brake, acc, brk) != (last[4], last[5], last[8], last[9])):
             return t

@@ -3,10 +3,37 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import TYPE_CHECKING, Any, Mapping, NamedTuple
+
+if TYPE_CHECKING:  # annotations only: the records must not import the world
+    from ..scenarios.config import Scenario
+    from ..world.ego import Ego
+    from ..world.scene import Scene
 
 TIMESERIES_COLUMNS = ("time_s", "position_m", "speed_mps", "accel_mps2", "throttle", "brake",
                       "ecu_mode", "gap_m", "accel_pedal_pct", "brake_pedal_pct")
+#: what a planar run's rows add (docs/run-format.md): the ego's pose point and heading, the steering-wheel
+#: angle the plant got, then per object (``obj<i>_``, 0-based, the order of the scenario's objects) its box's
+#: centre and heading
+EGO_POSE_COLUMNS = ("x_m", "y_m", "yaw_rad", "steering_wheel_angle_rad")
+OBJECT_POSE_COLUMNS = ("x_m", "y_m", "yaw_rad")
+
+
+def timeseries_columns(scenario: Scenario) -> tuple[str, ...]:
+    """The time series' columns of a run of ``scenario``: :data:`TIMESERIES_COLUMNS`, and the pose columns when
+    it is planar (a 1-D scenario's file stays as it was)."""
+    if not scenario.planar:
+        return TIMESERIES_COLUMNS
+    objects = [f"obj{i}_{c}" for i in range(len(scenario.scene_objects())) for c in OBJECT_POSE_COLUMNS]
+    return (*TIMESERIES_COLUMNS, *EGO_POSE_COLUMNS, *objects)
+
+
+def pose_cells(ego: Ego, steering_rad: float, scene: Scene, t_s: float) -> tuple[float, ...]:
+    """A planar row's pose cells at ``t_s`` (:data:`EGO_POSE_COLUMNS`, then each object's)."""
+    cells = [ego.x_m, ego.y_m, ego.yaw_rad, steering_rad]
+    for obj, st in zip(scene.objects, scene.states(t_s)):
+        cells += (*obj.centre(st), st.yaw_rad)
+    return tuple(cells)
 
 
 class LoggedFrame(NamedTuple):
@@ -19,9 +46,12 @@ class LoggedFrame(NamedTuple):
 
 @dataclass(frozen=True, slots=True)
 class RunEvent:
+    """Something that happened at ``t_s``; ``data``: fields ``events.json`` adds (a planar collision's contact)."""
+
     t_s: float
     kind: str
     detail: str
+    data: Mapping[str, Any] | None = None
 
 
 @dataclass
@@ -50,7 +80,8 @@ class RunRecord:
 
     strategy: str
     metrics: RunMetrics
-    rows: list[tuple] = field(default_factory=list)  # TIMESERIES_COLUMNS, one per ECU cycle
+    rows: list[tuple] = field(default_factory=list)  # ``columns``, one per ECU cycle
+    columns: tuple[str, ...] = TIMESERIES_COLUMNS
     frames: list[LoggedFrame] = field(default_factory=list)
     events: list[RunEvent] = field(default_factory=list)
     error: str | None = None
@@ -63,6 +94,8 @@ class RunRecord:
     interrupted: str | None = None  # the signal that ended the run early ("SIGINT", "SIGTERM")
     #: an ECU on a bus: the settings it announced and what is known of them (cosim.link.ecu_identity)
     ecu_settings: dict | None = None
+    #: a planar run's collision (cosim.world.scene_contact.Hit.as_dict): metrics.json's "contact"
+    contact: dict | None = None
 
     @property
     def status(self) -> str:
@@ -74,5 +107,5 @@ class RunRecord:
         return "collided" if self.metrics.collided else "ok"
 
     def column(self, name: str) -> list:
-        i = TIMESERIES_COLUMNS.index(name)
+        i = self.columns.index(name)
         return [row[i] for row in self.rows]

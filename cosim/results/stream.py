@@ -65,7 +65,8 @@ class RunStream:
     (asammdf) is written from the record when the stream closes.
     """
 
-    def __init__(self, run_dir: Path, can_logs: Sequence[str], start: datetime) -> None:
+    def __init__(self, run_dir: Path, can_logs: Sequence[str], start: datetime,
+                 columns: Sequence[str] = TIMESERIES_COLUMNS) -> None:
         run_dir.mkdir(parents=True, exist_ok=True)
         self._run_dir, self._start, self._start_s = run_dir, start, start.timestamp()
         self._rows = self._frames = 0
@@ -73,7 +74,7 @@ class RunStream:
         self._writers: list = []
         self._csv_file = open(run_dir / "timeseries.csv", "w", newline="")
         try:
-            csv.writer(self._csv_file).writerow(TIMESERIES_COLUMNS)
+            csv.writer(self._csv_file).writerow(columns)
             for name in can_logs:
                 if streamed(name):
                     self._writers.append(open_python_can_writer(run_dir / name, start))
@@ -94,7 +95,7 @@ class RunStream:
 
     def _write_new(self, record: RunRecord) -> None:
         rows = record.rows
-        self._csv_file.write(timeseries_lines(rows[self._rows:]))
+        self._csv_file.write(timeseries_lines(rows[self._rows:], record.columns))
         self._rows = len(rows)
         frames, start_s = record.frames, self._start_s
         new = frames[self._frames:]

@@ -15,6 +15,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import functools
 import math
 import os
 import tempfile
@@ -72,6 +73,8 @@ def write_metrics(path: Path, records: Iterable[RunRecord], prov: dict, status: 
         entry.update(run_status(r))
         if r.ecu_settings is not None:  # an ECU on a bus: what it runs (in process: the resolved config's [ecu])
             entry["ecu_settings"] = r.ecu_settings
+        if r.contact is not None:
+            entry["contact"] = r.contact
         runs.append(entry)
     write_json_atomic(path, {"status": status, "error": error, "runs": runs, "provenance": prov})
 
@@ -102,21 +105,26 @@ def timeseries_cells(row: tuple) -> list:
     return [f"{v:.6g}" if isinstance(v, float) and k else (f"{v:.3f}" if k == 0 else v) for k, v in enumerate(row)]
 
 
-#: one time-series row as :func:`timeseries_cells` and ``csv.writer`` (excel dialect) make it, when every
-#: cell but the mode is a float and the mode a plain word (a ``%`` per row: 2.6 instead of 8.7 µs, timeit)
-_ROW_LINE = "%.3f," + ",".join("%s" if name == "ecu_mode" else "%.6g" for name in TIMESERIES_COLUMNS[1:]) + "\r\n"
-_MODE_COLUMN = TIMESERIES_COLUMNS.index("ecu_mode")
 _QUOTED = frozenset(',"\r\n')
 
 
-def timeseries_lines(rows: Sequence[tuple]) -> str:
+@functools.lru_cache(maxsize=16)
+def _row_line(columns: tuple[str, ...]) -> str:
+    """One time-series row of ``columns`` as :func:`timeseries_cells` and ``csv.writer`` (excel dialect) make it,
+    when every cell but the mode is a float and the mode a plain word (a ``%`` per row: 2.6 instead of 8.7 µs)."""
+    return "%.3f," + ",".join("%s" if name == "ecu_mode" else "%.6g" for name in columns[1:]) + "\r\n"
+
+
+def timeseries_lines(rows: Sequence[tuple], columns: tuple[str, ...] = TIMESERIES_COLUMNS) -> str:
     """``rows`` as CSV text, exactly as ``csv.writer(...).writerow(timeseries_cells(row))`` writes each."""
-    modes = {row[_MODE_COLUMN] for row in rows}
+    mode_column = columns.index("ecu_mode")
+    modes = {row[mode_column] for row in rows}
     plain = (set(map(type, chain.from_iterable(rows))) <= {float, str}
              and all(type(m) is str and _QUOTED.isdisjoint(m) for m in modes))
     if plain:
         try:
-            return "".join([_ROW_LINE % row for row in rows])
+            line = _row_line(columns)
+            return "".join([line % row for row in rows])
         except TypeError:  # e.g. a word in a number's column: csv's way below
             pass
     text = io.StringIO(newline="")
@@ -128,12 +136,12 @@ def timeseries_lines(rows: Sequence[tuple]) -> str:
 
 def write_timeseries(path: Path, record: RunRecord) -> None:
     with open(path, "w", newline="") as handle:
-        csv.writer(handle).writerow(TIMESERIES_COLUMNS)
-        handle.write(timeseries_lines(record.rows))
+        csv.writer(handle).writerow(record.columns)
+        handle.write(timeseries_lines(record.rows, record.columns))
 
 
 def write_events(path: Path, record: RunRecord) -> None:
-    events = [{"t_s": e.t_s, "kind": e.kind, "detail": e.detail} for e in record.events]
+    events = [{"t_s": e.t_s, "kind": e.kind, "detail": e.detail, **(e.data or {})} for e in record.events]
     path.write_text(json.dumps({"events": events, "error": record.error}, indent=2) + "\n")
 
 

@@ -19,7 +19,9 @@ from can_dbc.contract import ECU_CYCLE_S, STRATEGIES, cycle_time_s, timeout_s  #
 from ecu.config import EcuConfig
 from ecu.settings import Range, setting
 
+from ..world.targets import TARGET_CLASSES
 from .kinds import FMU_START_VALUES, POINTS, START_TIME, SignalMap, event_names, signal_maps
+from .planar_config import CrossingConfig, PoseConfig, RoadConfig, RoadPoseConfig, SteeringConfig, TrajectoryConfig
 
 OBJECT_TRACK_PERIOD_S = cycle_time_s("ObjectTrack")  # the contract's radar cycle (DBC GenMsgCycleTime 50 ms)
 #: the paper's three strategies, the one list of them (``crd matrix``'s default, the runs the paper's
@@ -50,8 +52,11 @@ class ScenarioSection:
         return datetime.fromisoformat(self.start_time)
 
 
-INPUT_ROLES = ("throttle", "brake", "accel_command", "road_friction")
-OUTPUT_ROLES = ("position", "speed", "accel", "wheel_speeds")
+INPUT_ROLES = ("throttle", "brake", "accel_command", "road_friction", "steering_wheel_angle")
+#: the plane: ``y`` (m) and ``yaw`` (rad) of the point whose ``position`` is mapped, ``yaw_rate`` (rad/s), and
+#: ``vx``, ``vy`` (m/s), that point's velocity in the vehicle frame; a plant without them stays on the line
+PLANAR_OUTPUT_ROLES = ("y", "yaw", "yaw_rate", "vx", "vy")
+OUTPUT_ROLES = ("position", "speed", "accel", "wheel_speeds", *PLANAR_OUTPUT_ROLES)
 
 BUILTIN_INPUTS = (
     SignalMap("throttle", ("throttle",)),
@@ -65,8 +70,13 @@ BUILTIN_OUTPUTS = (
     SignalMap("wheel_speeds", ("wheel_speed_fl", "wheel_speed_fr", "wheel_speed_rl", "wheel_speed_rr")),
 )
 
-INITIAL_ROLES = ("speed",)
+INITIAL_ROLES = ("speed", "y", "yaw")
 BUILTIN_INITIAL = (SignalMap("speed", ("v0",)),)
+#: the builtin plant's planar maps, added by the loader to a planar scenario only (a 1-D scenario's
+#: resolved file stays as it was; with the wheel straight the plant's y and yaw stay exactly 0)
+BUILTIN_PLANAR_INPUTS = (SignalMap("steering_wheel_angle", ("steering_wheel_angle",)),)
+BUILTIN_PLANAR_OUTPUTS = tuple(SignalMap(role, (role,)) for role in PLANAR_OUTPUT_ROLES)
+BUILTIN_PLANAR_INITIAL = (SignalMap("y", ("y0",)), SignalMap("yaw", ("yaw0",)))
 
 
 @dataclass(frozen=True)
@@ -115,7 +125,28 @@ class PlantConfig:
     outputs: tuple[SignalMap, ...] = setting(BUILTIN_OUTPUTS, kind=signal_maps(OUTPUT_ROLES),
                                              doc="[plant.outputs]: the FMU's output variables by role")
     initial: tuple[SignalMap, ...] = setting(BUILTIN_INITIAL, kind=signal_maps(INITIAL_ROLES),
-                                             doc="[plant.initial]: the FMU parameter that initial_speed_mps sets")
+                                             doc="[plant.initial]: the FMU parameters that initial_speed_mps, "
+                                                 "initial_y_m and initial_yaw_rad set")
+    initial_y_m: float | None = setting(None, unit="m", allowed=Range(-1e5, 1e5),
+                                        doc="planar: y of the point the plant's pose follows (builtin: the centre of "
+                                            "gravity) at t = 0, through [plant.initial] y (builtin: y0)")
+    initial_yaw_rad: float | None = setting(None, unit="rad", allowed=Range(-6.3, 6.3),
+                                            doc="planar: heading at t = 0, through [plant.initial] yaw (builtin: yaw0)")
+    cg_to_front_m: float | None = setting(None, unit="m", allowed=Range(0.0, 30.0),
+                                          doc="planar: from the point the plant's pose follows (builtin: the centre of "
+                                              "gravity, about which it turns) forward to the front bumper; unset: "
+                                              "length_m / 2, the box centred on it (CommonRoad's convention)")
+
+    def initial_values(self) -> list[tuple[str, str, float]]:
+        """(key, [plant.initial] role, value) of every initial value set (the speed when > 0)."""
+        values = [("initial_speed_mps", "speed", self.initial_speed_mps if self.initial_speed_mps > 0.0 else None),
+                  ("initial_y_m", "y", self.initial_y_m), ("initial_yaw_rad", "yaw", self.initial_yaw_rad)]
+        return [(key, role, value) for key, role, value in values if value is not None]
+
+    @property
+    def front_m(self) -> float:
+        """From the plant's pose point forward to the front bumper (m): ``cg_to_front_m`` or half the length."""
+        return self.length_m / 2.0 if self.cg_to_front_m is None else self.cg_to_front_m
 
     def input_map(self, role: str) -> SignalMap | None:
         return next((m for m in self.inputs if m.role == role), None)
@@ -149,6 +180,8 @@ class DriverConfig:
                         doc="scripted: the breakpoints' abscissa, time (s) or position (m)")
     points: tuple[tuple[float, float, float], ...] = setting(
         (), kind=POINTS, doc="scripted: rows [at, accel_pct, brake_pct], linearly interpolated, held at the ends")
+    steering: SteeringConfig | None = setting(None, doc="[driver.steering]: who turns the wheel; absent: every "
+                                                        "model above holds it straight (the paper's driver)")
 
 
 @dataclass(frozen=True)
@@ -168,7 +201,16 @@ class ObjectConfig:
     ``brake_at_gap_m`` (0 decel = never brakes). Lateral motion: at
     ``lateral_speed_mps`` toward ``lateral_end_m``, starting at ``lateral_at_s``
     or at ``lateral_at_gap_m`` (cut-in, cut-out). Equations:
-    :mod:`cosim.world.scene_motion`.
+    :mod:`cosim.world.scene_motion`. The gap of the triggers is the ego's
+    distance along its heading from its front bumper to the object's nearest
+    point (in 1-D: ``rear - bumper``).
+
+    In the plane: ``pose`` or ``road_pose`` place the box's centre with a
+    heading, and the motion above runs along that heading (the lateral motion
+    across it); ``trajectory`` or ``crossing`` move the box's centre along a
+    path instead (the motion keys above are then not used). ``target_class``
+    names a protocol target, whose box it takes unless ``length_m`` and
+    ``width_m`` are given.
     """
 
     enabled: bool = setting(True, doc="false: no object (an empty road)")
@@ -191,6 +233,20 @@ class ObjectConfig:
     lateral_at_s: float | None = setting(None, unit="s", allowed=Range(0.0, 3600.0), doc="lateral motion starts at this time")
     lateral_at_gap_m: float | None = setting(None, unit="m", allowed=Range(0.0, 1e4),
                                              doc="... or once the ego's gap first falls to this")
+    target_class: str | None = setting(None, allowed=tuple(TARGET_CLASSES),
+                                       doc="a protocol target (cosim/world/targets.py): its box is length_m x width_m "
+                                           "unless given, and the radar reports its size class")
+    pose: PoseConfig | None = setting(None, doc="planar: [objects.pose] places the box's centre instead of "
+                                                "position_m and lateral_m; the motion above runs along its heading")
+    road_pose: RoadPoseConfig | None = setting(None, doc="planar: [objects.road_pose], the same in road coordinates")
+    trajectory: TrajectoryConfig | None = setting(None, doc="planar: [objects.trajectory] moves it instead")
+    crossing: CrossingConfig | None = setting(None, doc="planar: [objects.crossing] moves it instead")
+
+    @property
+    def planar(self) -> bool:
+        """Placed or moved in the plane (any of the planar tables, or a protocol target class)."""
+        return any(v is not None for v in (self.target_class, self.pose, self.road_pose, self.trajectory,
+                                             self.crossing))
 
 
 @dataclass(frozen=True)
@@ -276,6 +332,17 @@ class Scenario:
     checks: ChecksConfig = setting(ChecksConfig(), doc="expectations on the run")
     objects: tuple[ObjectConfig, ...] = setting((), doc="several objects, each an [object] table")
     end: EndConfig = setting(EndConfig(), doc="early end conditions")
+    road: RoadConfig | None = setting(None, doc="planar: the road (absent: none)")
+
+    @property
+    def planar(self) -> bool:
+        """A scenario of the plane: a road, a steering driver, an initial pose or a planar object.
+
+        It gets the builtin plant's planar maps, a ``scene.json`` and the pose columns; every other
+        scenario runs, resolves and writes exactly as the 1-D world did (the world is the same).
+        """
+        return (self.road is not None or self.driver.steering is not None or self.plant.initial_y_m is not None
+                or self.plant.initial_yaw_rad is not None or any(o.planar for o in self.scene_objects()))
 
     def scene_objects(self) -> tuple[ObjectConfig, ...]:
         """Every enabled object: ``[[objects]]`` if given, else the single ``[object]``."""

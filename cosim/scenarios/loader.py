@@ -22,17 +22,26 @@ from typing import Any, Mapping
 from can_dbc.contract import ECU_CYCLE_S
 from ecu.settings import SettingError, load, load_toml
 
-from .config import BUILTIN_INPUTS, BUILTIN_OUTPUTS, ObjectConfig, PlantConfig, Scenario
+from .config import (
+    BUILTIN_INITIAL, BUILTIN_INPUTS, BUILTIN_OUTPUTS, BUILTIN_PLANAR_INITIAL, BUILTIN_PLANAR_INPUTS,
+    BUILTIN_PLANAR_OUTPUTS, ObjectConfig, PlantConfig, Scenario,
+)
+from .planar_rules import check_planar, with_target_boxes
 
 
-def _merge_builtin(plant: PlantConfig, given: Mapping[str, Any]) -> PlantConfig:
-    """The builtin plant has default mappings; a given role replaces its default."""
-    inputs = {m.role: m for m in BUILTIN_INPUTS} | {m.role: m for m in plant.inputs if "inputs" in given}
+def _merge_builtin(plant: PlantConfig, given: Mapping[str, Any], planar: bool) -> PlantConfig:
+    """The builtin plant has default mappings (its planar ones in a planar scenario); a given role replaces its default."""
+    extra_in, extra_out, extra_initial = (BUILTIN_PLANAR_INPUTS, BUILTIN_PLANAR_OUTPUTS, BUILTIN_PLANAR_INITIAL) \
+        if planar else ((), (), ())
+    inputs = {m.role: m for m in BUILTIN_INPUTS + extra_in} | {m.role: m for m in plant.inputs if "inputs" in given}
     if "accel_command" in inputs:
         raise SettingError("plant.inputs.accel_command",
                            "the builtin plant takes throttle and brake, not accel_command")
-    outputs = {m.role: m for m in BUILTIN_OUTPUTS} | {m.role: m for m in plant.outputs if "outputs" in given}
-    return dataclasses.replace(plant, inputs=tuple(inputs.values()), outputs=tuple(outputs.values()))
+    outputs = {m.role: m for m in BUILTIN_OUTPUTS + extra_out} | {m.role: m for m in plant.outputs if "outputs" in given}
+    initial = {m.role: m for m in BUILTIN_INITIAL + extra_initial} | \
+        {m.role: m for m in plant.initial if "initial" in given}
+    return dataclasses.replace(plant, inputs=tuple(inputs.values()), outputs=tuple(outputs.values()),
+                               initial=tuple(initial.values()))
 
 
 def _third_party(plant: PlantConfig, given: Mapping[str, Any], base_dir: Path | None) -> PlantConfig:
@@ -49,13 +58,17 @@ def _third_party(plant: PlantConfig, given: Mapping[str, Any], base_dir: Path | 
 
 
 def _check_initial(plant: PlantConfig) -> None:
-    if plant.initial_speed_mps > 0.0 and not plant.initial:
-        raise SettingError("plant.initial_speed_mps", "this FMU has no [plant.initial] speed mapping;"
-                                                      " expected [plant.initial] speed = \"<parameter name>\"")
-    for m in plant.initial:
-        if m.names[0] in plant.parameters and plant.initial_speed_mps > 0.0:
-            raise SettingError(f"plant.parameters.{m.names[0]}", f"set by plant.initial_speed_mps through "
-                                                                 f"[plant.initial] {m.role}; expected only one of the two")
+    """Each initial value that is set needs its [plant.initial] map, and is not also a start value."""
+    roles = {m.role: m for m in plant.initial}
+    for key, role, _ in plant.initial_values():
+        if role not in roles:
+            raise SettingError(f"plant.{key}", f"this FMU has no [plant.initial] {role} mapping;"
+                                               f" expected [plant.initial] {role} = \"<parameter name>\"")
+        name = roles[role].names[0]
+        if name in plant.parameters:
+            raise SettingError(f"plant.parameters.{name}", f"set by plant.{key} through "
+                                                           f"[plant.initial] {role}; expected only one of the two")
+
 
 
 def _check_plant_roles(plant: PlantConfig) -> None:
@@ -72,12 +85,12 @@ def _check_plant_roles(plant: PlantConfig) -> None:
 def _objects(scenario: Scenario, data: Mapping[str, Any]) -> Scenario:
     """``[[objects]]``: one or more tables; with it, the single ``[object]`` is disabled."""
     if "objects" not in data:
-        return scenario
+        return with_target_boxes(scenario, data)
     if "object" in data:
         raise SettingError("objects", "expected either [object] or [[objects]], got both")
     if not scenario.objects:
         raise SettingError("objects", "expected one or more [[objects]] tables, got []")
-    return dataclasses.replace(scenario, object=ObjectConfig(enabled=False))
+    return with_target_boxes(dataclasses.replace(scenario, object=ObjectConfig(enabled=False)), data)
 
 
 def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) -> Scenario:
@@ -87,9 +100,11 @@ def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) ->
     """
     scenario = _objects(load(Scenario, data), data)
     plant, given = scenario.plant, data.get("plant", {})
-    plant = _merge_builtin(plant, given) if plant.fmu == "builtin" else _third_party(plant, given, base_dir)
+    plant = _merge_builtin(plant, given, scenario.planar) if plant.fmu == "builtin" else \
+        _third_party(plant, given, base_dir)
     _check_plant_roles(plant)
     _check_initial(plant)
+    check_planar(dataclasses.replace(scenario, plant=plant), data)
     cycles = ECU_CYCLE_S / scenario.scenario.step_s
     if abs(cycles - round(cycles)) > 1e-9:
         raise SettingError("scenario.step_s", f"expected a divisor of the {ECU_CYCLE_S} s ECU cycle, "

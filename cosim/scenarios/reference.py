@@ -12,12 +12,15 @@ import dataclasses
 import inspect
 import json
 import re
+import typing
 from typing import Any
 
-from ecu.settings import Declared, Key, keys, type_text
+from ecu.settings import Declared, Key, _plain, keys, type_text
 
 from ..world.driver_models import DRIVER_MODELS
+from ..world.steering_models import STEERING_MODELS
 from .config import Scenario
+from .resolve import plain
 from .toml_writer import value_text
 
 COMMAND = "python -m cosim.scenarios.reference > docs/scenario-reference.md"
@@ -45,6 +48,24 @@ t = 0, is the initial gap between the ego's front bumper and the object. The
 ego's body reaches `[plant] length_m` back from its bumper; an object occupies
 `[position_m, position_m + length_m]` along the path and `lateral_m ± width_m/2`
 across it. Contact needs both a longitudinal and a lateral overlap.
+
+## The plane
+
+The world is one frame for every scenario: the path frame above, x and y in
+metres, headings counter-clockwise from x (ISO 8855, OpenDRIVE). A scenario is
+*planar* when it has a `[road]`, a `[driver.steering]`, an initial pose
+(`[plant] initial_y_m`, `initial_yaw_rad`) or an object placed or moved in the
+plane (`target_class`, `[objects.pose]`, `[objects.road_pose]`,
+`[objects.trajectory]`, `[objects.crossing]`). Then the builtin plant maps its
+planar outputs (`y`, `yaw`, `yaw_rate`, `vx`, `vy`), its steering input and
+its initial pose (`y0`, `yaw0`), the run writes `scene.json` and the pose
+columns (`docs/run-format.md`), and a collision records its contact point and
+normal. The plant's pose point (builtin: the centre of gravity, about which
+the car turns) sits `[plant] cg_to_front_m` behind the front bumper; with the
+wheel straight the car stays on y = 0 and the run is the 1-D world's, bit for
+bit. What the ego sees of an object (its gap, the radar's range and lateral
+offset) is measured in the ego's frame, from its front bumper along its
+heading (`cosim/world/scene.py`).
 """
 
 
@@ -71,6 +92,8 @@ def _default(key: Key) -> str:
         return "unset"
     if key.declared.kind is not None:
         value = key.declared.kind.dump(value)
+    if isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0]):
+        value = [plain(v) for v in value]
     if isinstance(value, dict) and not value:
         return "`{}`"
     return f"`{value_text(value)}`"
@@ -86,17 +109,41 @@ def key_table(cls: type) -> list[str]:
     return rows
 
 
+def _table_of(key: Key) -> tuple[type | None, bool]:
+    """The dataclass a key's value is a table of (None: a plain value), and whether it is a list of tables."""
+    hint = _plain(key.hint)
+    if dataclasses.is_dataclass(hint):
+        return hint, False
+    if typing.get_origin(hint) is tuple and dataclasses.is_dataclass(_plain(typing.get_args(hint)[0])):
+        return _plain(typing.get_args(hint)[0]), True
+    return None, False
+
+
+def _subtables(path: str, cls: type) -> list[str]:
+    """``### [path.key]`` for every key of ``cls`` that is a table or a list of tables (recursively)."""
+    lines = []
+    for key in keys(cls).values():
+        sub, many = _table_of(key)
+        if sub is None or key.declared.kind is not None:
+            continue
+        title = f"[[{path}.{key.name}]]" if many else f"[{path}.{key.name}]"
+        lines += [f"### `{title}`", "", _markdown(inspect.cleandoc(sub.__doc__ or "")), "", *key_table(sub), ""]
+        lines += _subtables(f"{path}.{key.name}", sub)
+    return lines
+
+
 def _section(name: str, key: Key) -> list[str]:
-    cls = key.hint
+    cls = _plain(key.hint)
     title = f"[[{name}]]" if name == "objects" else f"[{name}]"
     if name == "objects":
         return [f"## `{title}`", "", "Several objects: each `[[objects]]` table takes the keys of `[object]` "
-                "(above). With `[[objects]]` the single `[object]` is not used; give one or the other.", ""]
+                "(above), and its tables as `[objects.pose]` etc. With `[[objects]]` the single `[object]` is not "
+                "used; give one or the other.", ""]
     own = cls.__module__.startswith("cosim.")  # [ecu] is ecu.EcuConfig: its field doc says what it is
     doc = _markdown(inspect.cleandoc(cls.__doc__ or "")) if own else \
         f"{key.declared.doc[0].upper()}{key.declared.doc[1:]} (`ecu.EcuConfig`; `crd ecu --config` reads the " \
         "same table from a scenario file)."
-    return [f"## `{title}`", "", doc, "", *key_table(cls), ""]
+    return [f"## `{title}`", "", doc, "", *key_table(cls), "", *(_subtables(name, cls) if own else [])]
 
 
 def _driver_models() -> list[str]:
@@ -106,6 +153,10 @@ def _driver_models() -> list[str]:
              "reads are named in the `[driver]` table above.", ""]
     for name, factory in DRIVER_MODELS.items():
         lines += [f"### `{name}`", "", _markdown(inspect.cleandoc(factory.__doc__ or "")), ""]
+    lines += ["## Steering models", "", "`[driver.steering] model` names one of these; without `[driver.steering]` "
+              "the wheel is held straight.", ""]
+    for name, factory in STEERING_MODELS.items():
+        lines += [f"### `{name}` (steering)", "", _markdown(inspect.cleandoc(factory.__doc__ or "")), ""]
     return lines
 
 
@@ -113,7 +164,7 @@ def render() -> str:
     """The whole page."""
     lines = [_INTRO.format(command=COMMAND)]
     for name, key in keys(Scenario).items():
-        if dataclasses.is_dataclass(key.hint) or name == "objects":
+        if dataclasses.is_dataclass(_plain(key.hint)) or name == "objects":
             lines += _section(name, key)
         if name == "driver":
             lines += _driver_models()

@@ -213,7 +213,7 @@ def run_plan(plan: SweepPlan, table: ResultsTable, out_dir: Path, opts: ClusterO
              skip: set[str] = frozenset(), keep_timeseries: bool = False,
              progress: SweepProgress | None = None, task: Task = run_one) -> SweepOutcome:
     """Run every run of ``plan`` not in ``skip`` on Dask; rows go to ``table`` as they finish."""
-    from ..world.plant_fmu import file_sha256
+    from ..world.fmu_share import file_sha256
 
     todo = [r for r in plan.runs if r.key not in skip]
     outcome = SweepOutcome(skipped=len(plan.runs) - len(todo))

@@ -18,7 +18,7 @@ from typing import Any, Iterator
 import dask
 
 from ..results.writer import package_version
-from ..world.plant_fmu import file_sha256
+from ..world.fmu_share import file_sha256
 from .plan import SweepPlan, make_plan
 from .report import write_report
 from .runner import ClusterOptions, SweepOutcome, SweepProgress, Task, run_plan

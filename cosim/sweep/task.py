@@ -5,7 +5,7 @@ assumed): :class:`FmuShipper` is a Dask worker plugin holding the bytes, whose
 ``setup`` runs on every worker of the cluster, including workers that join or
 restart later, and writes the file with :func:`cached_fmu` into the local
 temporary directory under its sha256, then prepares it once for every run of
-the worker (:func:`cosim.world.plant_fmu.share_fmu`: hashed, parsed, extracted
+the worker (:func:`cosim.world.fmu_share.share_fmu`: hashed, parsed, extracted
 and its library loaded once; each run instantiates and frees its own
 instance). Runs name the FMU by hash only, so no task depends on data held by
 another worker. :func:`run_chunk` runs several runs in one task (fewer
@@ -33,7 +33,7 @@ from ..errors import PlantError
 from ..loop.master import run_scenario
 from ..results.run_record import RunMetrics, RunRecord
 from ..scenarios.loader import scenario_from_dict
-from ..world.plant_fmu import file_sha256, share_fmu, unshare_fmu
+from ..world.fmu_share import file_sha256, share_fmu, unshare_fmu
 from .plan import RunSpec
 
 #: metrics.json fields copied into each row: every RunMetrics field but the strategy (its own column)

@@ -3,6 +3,7 @@
 Each model maps the vehicle's state at an ECU cycle boundary to pedals in
 percent (the ``DriverInput`` units). They disregard the object on purpose:
 the paper's driver is "asleep at the wheel or distracted by a cell phone".
+The wheel is the steering model's (:mod:`cosim.world.steering_models`).
 """
 
 from __future__ import annotations
@@ -30,7 +31,8 @@ DriverModel = Callable[[float, float, float], Pedals]
 
 
 def full_throttle(cfg: DriverConfig) -> DriverModel:
-    """Accelerator held at ``cfg.accel_pedal_pct`` whatever happens (the paper's driver)."""
+    """Accelerator held at ``cfg.accel_pedal_pct`` whatever happens; without ``[driver.steering]`` the wheel is
+    held straight too: the paper's distracted driver, "asleep at the wheel or distracted by a cell phone"."""
     pedals = Pedals(cfg.accel_pedal_pct, 0.0)
     return lambda t_s, position_m, speed_mps: pedals
 

@@ -88,10 +88,14 @@ SECURITY_EVENTS = ("auth_failure", "ecu_security_fault")
 
 
 class Actuation(NamedTuple):
-    """Plant commands, both 0..1 (a tuple: built every cycle, about 4x cheaper than a frozen dataclass)."""
+    """Plant commands: throttle and brake 0..1, and the driver's steering-wheel angle (rad), passed through.
+
+    A tuple: built every cycle, about 4x cheaper than a frozen dataclass.
+    """
 
     throttle: float
     brake: float
+    steering_wheel_angle_rad: float = 0.0
 
 
 class Gateway:
@@ -281,8 +285,9 @@ class Gateway:
             return None
         return min(d[1] for d in demands), max(d[2] for d in demands), any(d[3] for d in demands)
 
-    def actuation(self, pedals: Pedals, t_s: float) -> Actuation:
-        """The plant's throttle and brake (0..1) for the cycle starting at ``t_s``."""
+    def actuation(self, pedals: Pedals, t_s: float, steering_wheel_angle_rad: float = 0.0) -> Actuation:
+        """The plant's throttle and brake (0..1) for the cycle starting at ``t_s``, and the driver's steering-wheel
+        angle (rad), passed through (no ECU steers yet)."""
         self._update_conflict(t_s)
         self._update_demands(t_s)
         doubt = t_s < self._doubt_until_t_s

@@ -138,17 +138,19 @@ def _goal(path: Path, k: int, t: float, q: tuple[float, float], lookahead_m: flo
     raise AssertionError("unreachable: the last segment always yields a goal point")
 
 
-def pursuit(pose: Pose, speed_mps: float, path: Path, params: PurePursuitParams) -> PursuitResult:
+def pursuit(pose: Pose, speed_mps: float, path: Path, params: PurePursuitParams,
+            near: tuple[int, float] | None = None) -> PursuitResult:
     """Pure pursuit (Coulter 1992): ``delta = atan(L * 2 x / l**2)``, ``l = clip(t_l v, l_min, l_max)``.
 
     ``x`` is the goal point's lateral offset from the rear axle in the vehicle frame; the result
-    is limited to the road-wheel angle limit."""
+    is limited to the road-wheel angle limit. ``near``: the path's point nearest the rear axle as
+    (segment, fraction), when the caller tracks it (else it is searched over the whole path)."""
     if not (math.isfinite(speed_mps) and speed_mps >= 0.0):
         raise PathError(f"speed_mps: expected a finite number >= 0, got {speed_mps!r}")
     c, s = math.cos(pose.yaw_rad), math.sin(pose.yaw_rad)
     q = (pose.x_m - params.cg_to_rear_axle_m * c, pose.y_m - params.cg_to_rear_axle_m * s)
     lookahead = min(max(params.lookahead_time_s * speed_mps, params.lookahead_min_m), params.lookahead_max_m)
-    k, t, _ = _nearest(path, *q)
+    k, t = near if near is not None else _nearest(path, *q)[:2]
     gx, gy = _goal(path, k, t, q, lookahead)
     lateral = -s * (gx - q[0]) + c * (gy - q[1])
     delta = math.atan(params.wheelbase_m * 2.0 * lateral / (lookahead * lookahead))

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Callable, Protocol
 
 from ..scenarios.config import PlantConfig
-from .plant_fmu import FmuPlant, PlantSample
+from .plant_fmu import FmuPlant, PlantPose, PlantSample
 # at import, not in finite_check: a forked run worker (crd paper) would import it again in each process
 from .plant_process import _check_finite, _output_names
 
@@ -31,13 +31,13 @@ class Plant(Protocol):
     fixed_internal_step_s: float | None
     wheel_speeds_mapped: bool  # False: every wheel speed is the vehicle speed (no ABS slip visible)
 
-    def set_actuation(self, throttle: float, brake: float) -> None: ...
+    def set_actuation(self, throttle: float, brake: float, steering_wheel_angle_rad: float = 0.0) -> None: ...
 
     def step(self, t_s: float, h_s: float) -> None: ...
 
     def read(self) -> PlantSample: ...
 
-    def position_speed(self) -> tuple[float, float]: ...
+    def pose(self) -> PlantPose: ...
 
     def close(self) -> None: ...
 
@@ -69,7 +69,8 @@ def finite_check(cfg: PlantConfig) -> Callable[[PlantSample, float], None]:
 
     def check(sample: PlantSample, t_s: float) -> None:
         w = sample.wheel_speeds_mps
-        s = sample.position_m + sample.speed_mps + sample.accel_mps2 + w[0] + w[1] + w[2] + w[3]
+        s = (sample.position_m + sample.speed_mps + sample.accel_mps2 + w[0] + w[1] + w[2] + w[3] + sample.y_m
+             + sample.yaw_rad + sample.yaw_rate_radps + sample.vx_mps + sample.vy_mps)
         if s - s != 0.0:
             _check_finite(sample, names, t_s)
 

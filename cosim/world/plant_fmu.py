@@ -19,19 +19,17 @@ vehicle speed on every wheel when the FMU has no wheel outputs.
 from __future__ import annotations
 
 import ctypes
-import hashlib
 import logging
 import shutil
-import threading
-from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator, NamedTuple
+from typing import NamedTuple
 
-from fmpy import extract, read_model_description
+from fmpy import extract
 from fmpy.fmi1 import FMICallException
 
 from ..errors import FmiStepError, MappingError, PlantError
-from ..scenarios.config import PlantConfig, SignalMap
+from ..scenarios.config import PLANAR_OUTPUT_ROLES, PlantConfig, SignalMap
+from .fmu_share import SHARED, file_sha256, read_md
 
 log = logging.getLogger(__name__)
 
@@ -45,8 +43,10 @@ _REAL_TYPES = ("Real", "Float64", "Float32")
 
 
 class PlantSample(NamedTuple):
-    """Plant outputs in SI: m, m/s, m/s², and four wheel speeds × radius in m/s.
+    """Plant outputs in SI: m, m/s, m/s², four wheel speeds × radius in m/s, and the plane's pose and motion.
 
+    ``y_m``, ``yaw_rad``: the pose point's y and heading; ``yaw_rate_radps``; ``vx_mps``, ``vy_mps``: its
+    velocity in the vehicle frame. A plant without those outputs reports 0, 0, 0, its speed, 0.
     A tuple: built every cycle, and about four times cheaper to build than a frozen dataclass.
     """
 
@@ -54,14 +54,27 @@ class PlantSample(NamedTuple):
     speed_mps: float
     accel_mps2: float
     wheel_speeds_mps: tuple[float, float, float, float]
+    y_m: float
+    yaw_rad: float
+    yaw_rate_radps: float
+    vx_mps: float
+    vy_mps: float
 
 
-def file_sha256(path: Path) -> str:
-    digest = hashlib.sha256()
-    with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(1 << 16), b""):
-            digest.update(block)
-    return digest.hexdigest()
+class PlantPose(NamedTuple):
+    """What a plant step in between ECU cycles reads: the pose and motion of :class:`PlantSample`."""
+
+    position_m: float
+    speed_mps: float
+    y_m: float
+    yaw_rad: float
+    yaw_rate_radps: float
+    vx_mps: float
+    vy_mps: float
+
+
+#: the output roles in the order the raw outputs are read (the planar ones last)
+_OUTPUT_ORDER = ("position", "speed", "accel", "wheel_speeds", *PLANAR_OUTPUT_ROLES)
 
 
 def _variables_by(md, causality: str) -> list[str]:
@@ -83,102 +96,6 @@ def _resolve(md, names: tuple[str, ...], causality: str, where: str) -> list:
     return found
 
 
-def _read_md(path: Path):
-    try:
-        return read_model_description(str(path))
-    except Exception as exc:  # noqa: BLE001 - any broken archive becomes one typed error
-        raise PlantError(f"{path}: not a readable FMU: {exc}") from exc
-
-
-class SharedFmu:
-    """One FMU file prepared once for many runs in this process (a sweep worker): hashed, its model
-    description read, extracted, and (at the first plant) its shared library loaded.
-
-    A :class:`FmuPlant` opened on the path of a shared FMU (:func:`share_fmu`) skips all that and
-    reuses the loaded library (fmpy's ``FMU2Slave``/``FMU3Slave`` object): it instantiates its own
-    instance and, when closed, terminates and frees only that instance (``fmi2FreeInstance`` /
-    ``fmi3FreeInstance``), leaving the library loaded. FMI allows instances to come and go in one
-    loaded library; a run's results are bit-identical to a fresh load (``tests/cosim/test_sweep_reuse.py``).
-    One plant uses it at a time; a second one opened meanwhile loads its own copy as usual.
-    """
-
-    def __init__(self, path: Path) -> None:
-        self.path = Path(path)
-        self.sha256, self.md = file_sha256(self.path), _read_md(self.path)
-        self.unzipdir = extract(str(self.path))
-        self.slave = None  # fmpy FMU2Slave/FMU3Slave, made by the first plant
-        self.retired = False  # unshared while busy: closed by the plant using it
-        self._lock = threading.Lock()  # held by the plant using it (a worker may run several threads)
-
-    @property
-    def busy(self) -> bool:
-        return self._lock.locked()
-
-    def claim(self) -> bool:
-        """Take it for one plant; False when another plant has it."""
-        return self._lock.acquire(blocking=False)
-
-    def unclaim(self) -> None:
-        self._lock.release()
-        if self.retired:
-            self.close()
-
-    def release(self, fmu) -> None:
-        """Terminate and free one plant's instance; the library stays loaded."""
-        if fmu.component is None:
-            return
-        try:
-            fmu.terminate()
-        except FMICallException as exc:
-            log.warning("plant FMU terminate failed: %s", exc)
-        try:
-            getattr(fmu, f"fmi{self.md.fmiVersion[0]}FreeInstance")(fmu.component)
-        except Exception as exc:  # noqa: BLE001 - best effort after a failure
-            log.warning("plant FMU freeInstance failed: %s", exc)
-        fmu.component = None
-
-    def close(self) -> None:
-        """Unload the library and delete the extraction (no plant may be using it)."""
-        slave, self.slave = self.slave, None
-        if slave is not None:
-            slave.freeLibrary()
-        shutil.rmtree(self.unzipdir, ignore_errors=True)
-
-
-_SHARED: dict[Path, SharedFmu] = {}  # path -> prepared FMU, in this process
-
-
-def share_fmu(path: Path) -> SharedFmu:
-    """Prepare the FMU at ``path`` once for every later :class:`FmuPlant` on that path in this process."""
-    path = Path(path)
-    shared = _SHARED.get(path)
-    if shared is None:
-        shared = _SHARED[path] = SharedFmu(path)
-    return shared
-
-
-@contextmanager
-def fmu_shared(path: Path) -> Iterator[SharedFmu]:
-    """:func:`share_fmu` for the block, unshared after (unless it was shared before): e.g. prepared once
-    in a parent before it forks run workers, which then neither parse nor extract it again."""
-    owned = Path(path) not in _SHARED
-    shared = share_fmu(path)
-    try:
-        yield shared
-    finally:
-        if owned:
-            unshare_fmu(path)
-
-
-def unshare_fmu(path: Path) -> None:
-    """Forget (and unload) the shared FMU at ``path``; plants opened later load it per run again."""
-    shared = _SHARED.pop(Path(path), None)
-    if shared is not None:
-        shared.retired = True
-        if not shared.busy:  # else the plant using it closes it when it closes
-            shared.close()
-
-
 class FmuPlant:
     """The plant FMU, instantiated, initialised and ready to :meth:`step`."""
 
@@ -186,8 +103,8 @@ class FmuPlant:
         self.path = Path(fmu_path)
         if not self.path.is_file():
             raise PlantError(f"plant FMU not found: expected a file at {self.path}")
-        shared = _SHARED.get(self.path)  # prepared once for many runs (a sweep worker), or None
-        self.sha256, md = (shared.sha256, shared.md) if shared else (file_sha256(self.path), _read_md(self.path))
+        shared = SHARED.get(self.path)  # prepared once for many runs (a sweep worker), or None
+        self.sha256, md = (shared.sha256, shared.md) if shared else (file_sha256(self.path), read_md(self.path))
         if md.coSimulation is None:
             raise PlantError(f"{self.path}: expected a co-simulation FMU, got model exchange only")
         self.fmi_version = int(md.fmiVersion[0])
@@ -216,13 +133,11 @@ class FmuPlant:
         out = {m.role: (m, _resolve(md, m.names, "output", f"plant.outputs.{m.role}")) for m in cfg.outputs}
         self._params = [(v, cfg.parameters[v.name]) for v in
                         _resolve(md, tuple(cfg.parameters), "parameter", "plant.parameters")]
-        if cfg.initial_speed_mps > 0.0:  # [plant.initial] speed: fmu = speed * scale + offset
-            for m in cfg.initial:
-                var = _resolve(md, m.names, "parameter", f"plant.initial.{m.role}")[0]
-                self._params.append((var, cfg.initial_speed_mps * m.scale + m.offset))
-        self._out_maps = [out[r][0] for r in ("position", "speed", "accel", "wheel_speeds") if r in out]
-        out_vrs = [v.valueReference for r in ("position", "speed", "accel", "wheel_speeds") if r in out
-                   for v in out[r][1]]
+        initial = {m.role: m for m in cfg.initial}
+        for _, role, value in cfg.initial_values():  # [plant.initial]: fmu = value * scale + offset
+            m = initial[role]
+            var = _resolve(md, m.names, "parameter", f"plant.initial.{m.role}")[0]
+            self._params.append((var, value * m.scale + m.offset))
         self._in_vr = (ctypes.c_uint32 * len(in_vars))(*[v.valueReference for v in in_vars])
         self._in_val = (ctypes.c_double * len(in_vars))()
         # set_actuation's table: (index, role, scale, offset) of the inputs the commands drive
@@ -232,21 +147,32 @@ class FmuPlant:
         for i, m in enumerate(self._in_maps):
             if m.role == "road_friction":
                 self._in_val[i] = cfg.road_friction * m.scale + m.offset
+        self._out_maps = [out[r][0] for r in _OUTPUT_ORDER if r in out]
+        out_vrs = [v.valueReference for r in _OUTPUT_ORDER if r in out for v in out[r][1]]
         self._out_vr = (ctypes.c_uint32 * len(out_vrs))(*out_vrs)
         self._out_val = (ctypes.c_double * len(out_vrs))()
-        self._pv_vr = (ctypes.c_uint32 * 2)(*self._out_vr[:2])  # position, speed (always mapped first)
-        self._pv_val = (ctypes.c_double * 2)()
-        # read(): (index into the raw outputs, scale, offset) per SI value, fixed at start-up
+        self._conversions(cfg.wheel_radius_m)
+
+    def _conversions(self, radius_m: float) -> None:
+        """read()'s and pose()'s (index into the raw outputs, scale, offset) per SI value, fixed at start-up."""
         conv, i = {}, 0
         for m in self._out_maps:
             conv[m.role] = [(i + j, m.scale, m.offset) for j in range(len(m.names))]
             i += len(m.names)
-        radius = cfg.wheel_radius_m
         self.wheel_speeds_mapped = "wheel_speeds" in conv  # False: derived from the speed (no ABS slip)
-        wheels = [(j, s * radius, o * radius) for j, s, o in conv["wheel_speeds"]] if "wheel_speeds" in conv \
+        wheels = [(j, s * radius_m, o * radius_m) for j, s, o in conv["wheel_speeds"]] if "wheel_speeds" in conv \
             else conv["speed"]  # fewer than 4 names: repeated in order; none: the speed on every wheel
         self._read_conv = (conv["position"][0], conv["speed"][0], conv["accel"][0] if "accel" in conv else None,
                            tuple(wheels[n % len(wheels)] for n in range(4)))
+        planar = [conv[r][0] if r in conv else None for r in PLANAR_OUTPUT_ROLES]
+        self.planar_mapped = any(c is not None for c in planar)  # False: y, yaw, yaw rate, vy 0 and vx the speed
+        # pose(): the position, speed and planar outputs only, read into an array of their own
+        picked = [conv["position"][0], conv["speed"][0], *(c for c in planar if c is not None)]
+        self._pv_vr = (ctypes.c_uint32 * len(picked))(*[self._out_vr[j] for j, _, _ in picked])
+        self._pv_val = (ctypes.c_double * len(picked))()
+        at = iter(range(2, len(picked)))
+        # (index in read()'s array, index in pose()'s array, scale, offset) per planar role, None where unmapped
+        self._planar_conv = tuple(None if c is None else (c[0], next(at), c[1], c[2]) for c in planar)
 
     def _open(self, start_time_s: float) -> None:
         from fmpy.fmi2 import FMU2Slave
@@ -322,14 +248,16 @@ class FmuPlant:
                        "set inputs": set_.__name__}
 
     # -- the loop -----------------------------------------------------------
-    def set_actuation(self, throttle: float, brake: float) -> None:
-        """Set the plant's inputs from throttle and brake commands (0..1)."""
+    def set_actuation(self, throttle: float, brake: float, steering_wheel_angle_rad: float = 0.0) -> None:
+        """Set the plant's inputs from throttle and brake commands (0..1) and the steering-wheel angle (rad)."""
         val = self._in_val
         for i, role, scale, offset in self._actuated:  # road friction is constant: written once, at start-up
             if role == "throttle":
                 x = throttle
             elif role == "brake":
                 x = brake
+            elif role == "steering_wheel_angle":
+                x = steering_wheel_angle_rad
             else:  # accel_command
                 x = throttle * self._accel_gain - brake * self._brake_gain
             val[i] = x * scale + offset
@@ -348,24 +276,36 @@ class FmuPlant:
         if (status := self._raw_step(self._component, t_s, h_s, *self._step_tail)) > _WARNING:
             self._fail(status, t_s, "step")
 
-    def position_speed(self) -> tuple[float, float]:
-        """Position (m) and speed (m/s) only: the cheap read used between ECU cycles."""
+    def _planar(self, raw: list, speed_mps: float, at: int) -> tuple[float, float, float, float, float]:
+        """(y, yaw, yaw rate, vx, vy) from raw values (``at``: 0 in read()'s array, 1 in pose()'s)."""
+        y, yaw, rate, vx, vy = (None if c is None else raw[c[at]] * c[2] + c[3] for c in self._planar_conv)
+        return (0.0 if y is None else y, 0.0 if yaw is None else yaw, 0.0 if rate is None else rate,
+                speed_mps if vx is None else vx, 0.0 if vy is None else vy)
+
+    def pose(self) -> PlantPose:
+        """Position, speed and the planar outputs only: the cheap read used between ECU cycles."""
         if (status := self._get(*self._get_pv)) > _WARNING:
             self._fail(status, None, "get outputs")
         (_, sp, op), (_, sv, ov) = self._read_conv[0], self._read_conv[1]
-        return self._pv_val[0] * sp + op, self._pv_val[1] * sv + ov
+        raw = self._pv_val[:]
+        v = raw[1] * sv + ov
+        if not self.planar_mapped:
+            return PlantPose(raw[0] * sp + op, v, 0.0, 0.0, 0.0, v, 0.0)
+        return PlantPose(raw[0] * sp + op, v, *self._planar(raw, v, 1))
 
     def read(self) -> PlantSample:
         """All mapped outputs, in SI."""
         if (status := self._get(*self._get_out)) > _WARNING:
             self._fail(status, None, "get outputs")
-        # one slice copies the ctypes array into a list, which is cheaper to index than ctypes;
-        # with the wheels unrolled, read() fell from 3.1 to 2.1 µs (measured; the FMI call itself is 0.7 µs)
+        # one slice copies the ctypes array into a list, which is cheaper to index than ctypes
         raw = self._out_val[:]
         (ip, sp, op), (iv, sv, ov), accel, ((j0, s0, o0), (j1, s1, o1), (j2, s2, o2), (j3, s3, o3)) = self._read_conv
         a = 0.0 if accel is None else raw[accel[0]] * accel[1] + accel[2]
-        return PlantSample._make((raw[ip] * sp + op, raw[iv] * sv + ov, a,
-                                  (raw[j0] * s0 + o0, raw[j1] * s1 + o1, raw[j2] * s2 + o2, raw[j3] * s3 + o3)))
+        v = raw[iv] * sv + ov
+        wheels = (raw[j0] * s0 + o0, raw[j1] * s1 + o1, raw[j2] * s2 + o2, raw[j3] * s3 + o3)
+        if not self.planar_mapped:
+            return PlantSample(raw[ip] * sp + op, v, a, wheels, 0.0, 0.0, 0.0, v, 0.0)
+        return PlantSample(raw[ip] * sp + op, v, a, wheels, *self._planar(raw, v, 0))
 
     def close(self) -> None:
         """Terminate and free the FMU; safe to call twice."""

@@ -28,7 +28,7 @@ Guarantees:
 
 Cost: one pipe round trip per ECU cycle (the child steps, then reads every
 output and returns them with the step's reply; :meth:`read` and
-:meth:`position_speed` then cost nothing). ``benchmarks/bench_fmu.py``
+:meth:`pose` then cost nothing). ``benchmarks/bench_fmu.py``
 measures it against the in-process plant.
 """
 
@@ -45,8 +45,9 @@ from multiprocessing.connection import Connection
 from pathlib import Path
 
 from ..errors import FmiStepError, PlantError
-from ..scenarios.config import PlantConfig
-from .plant_fmu import FmuPlant, PlantSample, file_sha256
+from ..scenarios.config import PLANAR_OUTPUT_ROLES, PlantConfig
+from .fmu_share import file_sha256
+from .plant_fmu import FmuPlant, PlantPose, PlantSample
 
 log = logging.getLogger(__name__)
 
@@ -57,12 +58,13 @@ def _output_names(cfg: PlantConfig) -> list[str]:
     """The mapped output variables, in the order :class:`PlantSample` reports them (for messages)."""
     by_role = {m.role: m.names for m in cfg.outputs}
     wheels = by_role.get("wheel_speeds") or by_role["speed"]
+    planar = [(by_role.get(role) or (f"(none: {role})",))[0] for role in PLANAR_OUTPUT_ROLES]
     return [by_role["position"][0], by_role["speed"][0], (by_role.get("accel") or ("(none)",))[0],
-            *[wheels[n % len(wheels)] for n in range(4)]]
+            *[wheels[n % len(wheels)] for n in range(4)], *planar]
 
 
 def _check_finite(sample: PlantSample, names: list[str], t_s: float) -> None:
-    values = (sample.position_m, sample.speed_mps, sample.accel_mps2, *sample.wheel_speeds_mps)
+    values = (sample.position_m, sample.speed_mps, sample.accel_mps2, *sample.wheel_speeds_mps, *sample[4:])
     for name, value in zip(names, values):
         if not math.isfinite(value):
             raise FmiStepError(f"plant FMU output {name!r} is {value} at t = {t_s:.6f} s", time_s=t_s,
@@ -88,9 +90,9 @@ def _serve(conn: Connection, cfg: PlantConfig, fmu_path: str) -> None:
             plant.close()
             conn.send(("closed",))
             break
-        _, t_s, h_s, throttle, brake = request
+        _, t_s, h_s, throttle, brake, steering = request
         try:
-            plant.set_actuation(throttle, brake)
+            plant.set_actuation(throttle, brake, steering)
             plant.step(t_s, h_s)
             sample = plant.read()
             _check_finite(sample, names, t_s + h_s)
@@ -121,7 +123,7 @@ class IsolatedPlant:
         self.sha256 = file_sha256(self.path)
         self.step_timeout_s = step_timeout_s
         self.wheel_speeds_mapped = cfg.output_map("wheel_speeds") is not None  # as FmuPlant reports it
-        self._throttle = self._brake = 0.0
+        self._throttle = self._brake = self._steering = 0.0
         ours, theirs = socket.socketpair()
         with theirs:
             self._proc = subprocess.Popen([sys.executable, "-m", __name__, str(theirs.fileno())],
@@ -154,15 +156,15 @@ class IsolatedPlant:
                            time_s=t_s, status="hung" if hung else "crashed")
 
     # -- FmuPlant's interface -------------------------------------------------
-    def set_actuation(self, throttle: float, brake: float) -> None:
+    def set_actuation(self, throttle: float, brake: float, steering_wheel_angle_rad: float = 0.0) -> None:
         """Kept until the next :meth:`step`, which sends it with the step."""
-        self._throttle, self._brake = throttle, brake
+        self._throttle, self._brake, self._steering = throttle, brake, steering_wheel_angle_rad
 
     def step(self, t_s: float, h_s: float) -> None:
         if self._conn is None:
             raise FmiStepError(f"plant FMU process is gone at t = {t_s:.6f} s", time_s=t_s, status="closed")
         try:
-            self._conn.send(("step", t_s, h_s, self._throttle, self._brake))
+            self._conn.send(("step", t_s, h_s, self._throttle, self._brake, self._steering))
         except OSError:
             pass  # a dead child shows in the reply
         reply = self._reply(self.step_timeout_s, t_s, "doStep")
@@ -173,8 +175,9 @@ class IsolatedPlant:
     def read(self) -> PlantSample:
         return self._sample
 
-    def position_speed(self) -> tuple[float, float]:
-        return self._sample.position_m, self._sample.speed_mps
+    def pose(self) -> PlantPose:
+        s = self._sample
+        return PlantPose(s.position_m, s.speed_mps, s.y_m, s.yaw_rad, s.yaw_rate_radps, s.vx_mps, s.vy_mps)
 
     def close(self) -> None:
         """Terminate the FMU in the child, bounded by ``step_timeout_s``; kill it otherwise. Idempotent."""

@@ -19,12 +19,18 @@ Frontal Collisions v1.1, CCRb). ``R = 0`` is a step in deceleration.
 Lateral (centre offset ``y``, left positive; motion starts at ``t_l``): ``y``
 moves at constant ``lateral_speed_mps`` from ``lateral_m`` to
 ``lateral_end_m`` and stays there (cut-in, cut-out).
+
+In the plane (:class:`cosim.world.scene_objects.PathMotion`) the two profiles run in the object's own
+frame: along its heading and across it, from where it was placed. Placed on
+the path (heading 0, no pose) that frame is the world's and the profiles are
+used as they are, with no arithmetic in between: the 1-D world bit for bit.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from ..scenarios.config import ObjectConfig
 
@@ -92,8 +98,26 @@ class Lateral:
         return self.y0_m + sign * moved, sign * self.speed_mps
 
 
-def motions(cfg: ObjectConfig) -> tuple[Longitudinal, Lateral]:
-    """The two profiles of one configured object."""
+def motions(cfg: ObjectConfig, rear0_m: float | None = None, y0_m: float | None = None) -> tuple[Longitudinal, Lateral]:
+    """The two profiles of one configured object (from ``rear0_m``, ``y0_m``: default ``position_m``, ``lateral_m``)."""
     end_speed = min(cfg.brake_to_speed_mps, max(cfg.speed_mps, 0.0))
-    lon = Longitudinal(cfg.position_m, cfg.speed_mps, cfg.brake_decel_mps2, cfg.brake_ramp_s, end_speed)
-    return lon, Lateral(cfg.lateral_m, cfg.lateral_speed_mps, cfg.lateral_end_m)
+    rear0 = cfg.position_m if rear0_m is None else rear0_m
+    lon = Longitudinal(rear0, cfg.speed_mps, cfg.brake_decel_mps2, cfg.brake_ramp_s, end_speed)
+    if y0_m is None or cfg.lateral_end_m is None:
+        return lon, Lateral(cfg.lateral_m if y0_m is None else y0_m, cfg.lateral_speed_mps, cfg.lateral_end_m)
+    return lon, Lateral(y0_m, cfg.lateral_speed_mps, cfg.lateral_end_m - cfg.lateral_m + y0_m)
+
+
+class BodyState(NamedTuple):
+    """An object at one instant: its reference point (m), heading (rad, and its cos and sin), the reference point's velocity
+    over ground in world axes (m/s), yaw rate (rad/s) and speed along its heading (m/s)."""
+
+    x_m: float
+    y_m: float
+    yaw_rad: float
+    cos_h: float
+    sin_h: float
+    vx_mps: float
+    vy_mps: float
+    yaw_rate_radps: float
+    speed_mps: float

@@ -55,6 +55,7 @@ def test_unknown_scenario_name_is_one_line(tmp_path, monkeypatch, capsys):
     assert err.startswith("error: paper_cyclst: scenario file not found")
     bundled = err.split("(bundled: ")[1].split(";")[0].split(", ")
     assert bundled == [p.stem for p in sorted(BUNDLED_DIR.glob("*.toml"))] and "paper_cyclist" in bundled
+    assert "lane_change_parked_car" in bundled
 
 
 def test_run_writes_report_md(tmp_path):

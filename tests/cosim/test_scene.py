@@ -5,17 +5,34 @@ import math
 import pytest
 
 from cosim.errors import ConfigError
-from cosim.scenarios.config import EndConfig, ObjectConfig, PlantConfig, RadarConfig
+from cosim.scenarios.config import EndConfig, ObjectConfig, PlantConfig, RadarConfig, Scenario
 from cosim.scenarios.loader import scenario_from_dict
 from cosim.scenarios.resolve import scenario_to_toml
+from cosim.world.ego import EgoBody
+from cosim.world.plant_fmu import PlantPose
 from cosim.world.scene import Scene
+from cosim.world.scene_build import build_objects
+from cosim.world.scene_contact import ContactWatch
 from cosim.world.scene_motion import Lateral, Longitudinal
 
 CAR = {"length_m": 4.023, "width_m": 1.712}
+BODY = EgoBody(PlantConfig())
 
 
 def scene(*objects, end=EndConfig(), radar=RadarConfig()):
-    return Scene([ObjectConfig(**o) for o in objects], PlantConfig(), radar, end)
+    sc = Scenario(objects=tuple(ObjectConfig(**o) for o in objects), object=ObjectConfig(enabled=False))
+    return Scene(build_objects(sc, None), BODY, radar, end)
+
+
+def ego(bumper_m, speed_mps=0.0):
+    """The ego with its front bumper at ``bumper_m`` on the path, heading along it."""
+    return BODY.at(PlantPose(bumper_m, speed_mps, 0.0, 0.0, 0.0, speed_mps, 0.0))
+
+
+def touching(s, t_s, bumper_m):
+    watch = ContactWatch(s)
+    watch.candidates(t_s, ego(bumper_m), 0.01)
+    return watch.contact(t_s, ego(bumper_m))
 
 
 def test_braking_profile_matches_numerical_integration():
@@ -53,26 +70,26 @@ def test_lateral_motion_moves_then_stays():
 def test_contact_needs_lateral_and_longitudinal_overlap():
     # ego: bumper at 0, 4.358 m long, 1.815 m wide; the limit of lateral overlap is (1.815 + 1.712) / 2
     limit = (1.815 + 1.712) / 2
-    assert scene(dict(position_m=-1.0, lateral_m=0.0, **CAR)).contact(0.0, 0.0) is not None
-    assert scene(dict(position_m=-1.0, lateral_m=limit - 0.01, **CAR)).contact(0.0, 0.0) is not None
-    assert scene(dict(position_m=-1.0, lateral_m=limit + 0.01, **CAR)).contact(0.0, 0.0) is None
-    assert scene(dict(position_m=-1.0, lateral_m=3.5, **CAR)).contact(0.0, 0.0) is None  # adjacent lane
-    assert scene(dict(position_m=0.5, **CAR)).contact(0.0, 0.0) is None  # still ahead
-    assert scene(dict(position_m=-9.0, **CAR)).contact(0.0, 0.0) is None  # passed behind us
+    assert touching(scene(dict(position_m=-1.0, lateral_m=0.0, **CAR)), 0.0, 0.0) is not None
+    assert touching(scene(dict(position_m=-1.0, lateral_m=limit - 0.01, **CAR)), 0.0, 0.0) is not None
+    assert touching(scene(dict(position_m=-1.0, lateral_m=limit + 0.01, **CAR)), 0.0, 0.0) is None
+    assert touching(scene(dict(position_m=-1.0, lateral_m=3.5, **CAR)), 0.0, 0.0) is None  # adjacent lane
+    assert touching(scene(dict(position_m=0.5, **CAR)), 0.0, 0.0) is None  # still ahead
+    assert touching(scene(dict(position_m=-9.0, **CAR)), 0.0, 0.0) is None  # passed behind us
 
 
 def test_path_gap_ignores_objects_beside_the_path():
     s = scene(dict(name="adjacent", position_m=20.0, lateral_m=3.5, **CAR),
               dict(name="ahead", position_m=50.0, **CAR))
-    assert s.path_gap(0.0, 0.0)[0] == 50.0 and s.path_gap(0.0, 0.0)[1].cfg.name == "ahead"
+    assert s.path_gap(0.0, ego(0.0))[0] == 50.0 and s.path_gap(0.0, ego(0.0))[1].obj.name == "ahead"
 
 
 def test_radar_reports_the_in_lane_object_before_a_nearer_one_beside_the_lane():
     s = scene(dict(name="adjacent", position_m=20.0, lateral_m=3.5, **CAR),
               dict(name="ahead", position_m=50.0, speed_mps=5.0, **CAR))
-    truth = s.radar_truth(0.0, 0.0, 10.0)
+    truth = s.radar_truth(0.0, ego(0.0, 10.0))
     assert (truth.gap_m, truth.range_rate_mps, truth.lateral_m) == (50.0, -5.0, 0.0)
-    alone = scene(dict(position_m=20.0, lateral_m=3.5, **CAR)).radar_truth(0.0, 0.0, 10.0)
+    alone = scene(dict(position_m=20.0, lateral_m=3.5, **CAR)).radar_truth(0.0, ego(0.0, 10.0))
     assert alone.lateral_m == 3.5  # nothing in the lane: the nearest visible object, the ECU decides
 
 
@@ -80,31 +97,31 @@ def test_radar_field_of_view():
     narrow = RadarConfig(field_of_view_deg=20.0)  # ±10°: the car's near edge 2.644 m off the axis
     near_edge = 3.5 - 0.856
     seen_from = near_edge / math.tan(math.radians(10.0))
-    assert scene(dict(position_m=seen_from + 0.1, lateral_m=3.5, **CAR), radar=narrow).radar_truth(0, 0, 0)
-    assert scene(dict(position_m=seen_from - 0.1, lateral_m=3.5, **CAR), radar=narrow).radar_truth(0, 0, 0) is None
-    assert scene(dict(position_m=-1.0, **CAR)).radar_truth(0, 0, 0) is None  # alongside or behind: not ahead
+    assert scene(dict(position_m=seen_from + 0.1, lateral_m=3.5, **CAR), radar=narrow).radar_truth(0, ego(0.0))
+    assert scene(dict(position_m=seen_from - 0.1, lateral_m=3.5, **CAR), radar=narrow).radar_truth(0, ego(0.0)) is None
+    assert scene(dict(position_m=-1.0, **CAR)).radar_truth(0, ego(0.0)) is None  # alongside or behind: not ahead
 
 
 def test_gap_trigger_fires_once():
     s = scene(dict(position_m=50.0, speed_mps=10.0, brake_decel_mps2=4.0, brake_at_gap_m=30.0, **CAR))
-    s.observe(0.0, 10.0)  # gap 40 m
-    assert s.objects[0].brake_t_s is None
-    s.observe(1.0, 35.0)  # gap 25 m
-    assert s.objects[0].brake_t_s == 1.0
-    s.observe(2.0, 0.0)
-    assert s.objects[0].brake_t_s == 1.0
+    s.observe(0.0, ego(10.0))  # gap 40 m
+    assert s.objects[0].motion.brake_t_s is None
+    s.observe(1.0, ego(35.0))  # gap 25 m
+    assert s.objects[0].motion.brake_t_s == 1.0
+    s.observe(2.0, ego(0.0))
+    assert s.objects[0].motion.brake_t_s == 1.0
 
 
 def test_end_conditions():
     still = scene(dict(position_m=50.0, **CAR), end=EndConfig(standstill=True))
-    assert still.end_reason(0.0, 0.0, 0.0) is None  # at rest before moving: not an end
-    assert still.end_reason(0.1, 0.0, 5.0) is None
-    assert still.end_reason(0.2, 0.0, 0.005) == "standstill"
+    assert still.end_reason(0.0, ego(0.0, 0.0)) is None  # at rest before moving: not an end
+    assert still.end_reason(0.1, ego(0.0, 5.0)) is None
+    assert still.end_reason(0.2, ego(0.0, 0.005)) == "standstill"
     matched = scene(dict(position_m=50.0, speed_mps=5.56, **CAR), end=EndConfig(matched_speed=True))
-    assert matched.end_reason(0.0, 0.0, 5.56) is None  # same speed from the start: not armed
-    assert matched.end_reason(0.1, 0.0, 13.9) is None
-    assert matched.end_reason(0.2, 0.0, 5.60) is None
-    assert matched.end_reason(0.3, 0.0, 5.55) == "matched_speed"
+    assert matched.end_reason(0.0, ego(0.0, 5.56)) is None  # same speed from the start: not armed
+    assert matched.end_reason(0.1, ego(0.0, 13.9)) is None
+    assert matched.end_reason(0.2, ego(0.0, 5.60)) is None
+    assert matched.end_reason(0.3, ego(0.0, 5.55)) == "matched_speed"
 
 
 def test_objects_array_loads_and_round_trips():

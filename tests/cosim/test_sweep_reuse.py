@@ -16,7 +16,8 @@ import pytest
 from cosim.errors import PlantError
 from cosim.loop.master import run_scenario
 from cosim.scenarios.loader import load_scenario
-from cosim.world.plant_fmu import FmuPlant, share_fmu, unshare_fmu
+from cosim.world.fmu_share import share_fmu, unshare_fmu
+from cosim.world.plant_fmu import FmuPlant
 
 BASE = Path(__file__).resolve().parent / "sweep_data" / "short_cyclist.toml"
 
@@ -75,14 +76,14 @@ def test_a_second_plant_at_once_loads_its_own_copy(fmu_copy) -> None:
 
 def test_fmu_shared_prepares_once_for_the_block_and_cleans_up(fmu_copy) -> None:
     """crd paper's parent prepares the FMU once before it forks its run workers (fmu_shared)."""
-    from cosim.world.plant_fmu import _SHARED, fmu_shared
+    from cosim.world.fmu_share import SHARED, fmu_shared
 
     with fmu_shared(fmu_copy) as shared:
         extraction = Path(shared.unzipdir)
-        assert _SHARED[fmu_copy] is shared and extraction.is_dir()
+        assert SHARED[fmu_copy] is shared and extraction.is_dir()
         assert _result(_variant(1.0, 0.10), fmu_copy)[2] is None and shared.slave is not None
-    assert fmu_copy not in _SHARED and not extraction.exists()  # unshared: library unloaded, extraction gone
+    assert fmu_copy not in SHARED and not extraction.exists()  # unshared: library unloaded, extraction gone
     before = share_fmu(fmu_copy)  # shared by someone else before the block: left shared after it
     with fmu_shared(fmu_copy) as shared:
         assert shared is before
-    assert _SHARED[fmu_copy] is before and Path(before.unzipdir).is_dir()
+    assert SHARED[fmu_copy] is before and Path(before.unzipdir).is_dir()
