@@ -344,6 +344,7 @@ class ClosedLoop:
         m.sim_time_s = t_s
         m.wall_time_s = wall_s
         m.contingency_invocations = self.gateway.contingency_invocations
+        m.fault_entries = self.gateway.fault_entries
         self.gateway.finish(t_s)
         if m.min_gap_m is not None and not math.isfinite(m.min_gap_m):
             m.min_gap_m = None

@@ -64,6 +64,8 @@ class RunMetrics:
     min_gap_m: float | None = None
     final_gap_m: float | None = None
     contingency_invocations: int = 0
+    #: entries into the ECU's FAULT mode after start-up (issue 25: none on a clean run)
+    fault_entries: int = 0
     max_speed_mps: float = 0.0
     sim_time_s: float = 0.0
     wall_time_s: float = 0.0

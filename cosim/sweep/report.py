@@ -27,7 +27,8 @@ def _num(x: float | None, spec: str = ".2f") -> str:
 
 
 def rates(rows: list[dict]) -> list[dict[str, Any]]:
-    """Per strategy: runs, failed, collisions, collision rate, mean/max impact speed, mean invocations."""
+    """Per strategy: runs, failed, collisions, collision rate, mean/max impact speed, mean invocations, and the
+    runs in which the ECU entered FAULT after start-up (a clean sweep has none)."""
     out = []
     for name in strategies(rows):
         mine = [r for r in rows if r["strategy"] == name]
@@ -36,17 +37,19 @@ def rates(rows: list[dict]) -> list[dict[str, Any]]:
         out.append({"strategy": name, "runs": len(mine), "failed": len(mine) - len(ok), "collisions": len(hit),
                     "collision_rate": len(hit) / len(ok) if ok else None, "mean_impact_speed_mps": _mean(hit),
                     "max_impact_speed_mps": max(hit) if hit else None,
-                    "mean_invocations": _mean([r["contingency_invocations"] for r in ok])})
+                    "mean_invocations": _mean([r["contingency_invocations"] for r in ok]),
+                    "runs_with_fault": sum(1 for r in ok if r.get("fault_entries"))})
     return out
 
 
 def rates_table(rows: list[dict]) -> list[str]:
     lines = ["| strategy | runs | failed | collisions | collision rate | mean impact m/s (collided) "
-             "| max impact m/s | mean contingency invocations |", "|---|---|---|---|---|---|---|---|"]
+             "| max impact m/s | mean contingency invocations | runs with FAULT |", "|---|---|---|---|---|---|---|---|---|"]
     for r in rates(rows):
         lines.append(f"| {r['strategy']} | {r['runs']} | {r['failed']} | {r['collisions']} "
                      f"| {_num(r['collision_rate'], '.3f')} | {_num(r['mean_impact_speed_mps'])} "
-                     f"| {_num(r['max_impact_speed_mps'])} | {_num(r['mean_invocations'], '.1f')} |")
+                     f"| {_num(r['max_impact_speed_mps'])} | {_num(r['mean_invocations'], '.1f')} "
+                     f"| {r['runs_with_fault']} |")
     return lines
 
 

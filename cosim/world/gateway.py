@@ -130,6 +130,9 @@ class Gateway:
         self.fallback = False
         self.mode = "STANDBY"
         self.contingency_invocations = 0
+        #: entries into the ECU's FAULT after it first left it (start-up FAULT lasts until its inputs are valid)
+        self.fault_entries = 0
+        self._started = False
         self.events: list[RunEvent] = []  # kinds: override_timeout, override_restored, second_ecu
 
     def offer(self, msg: can.Message, t_s: float) -> bool:
@@ -168,6 +171,9 @@ class Gateway:
             if mode == "CONTINGENCY" and not self._contingency:
                 self.contingency_invocations += 1
             self._contingency = mode == "CONTINGENCY"
+        if mode == "FAULT" and self.mode != "FAULT" and self._started:
+            self.fault_entries += 1
+        self._started = self._started or mode != "FAULT"
         self.mode = mode
         self._signals = frame.signals  # a dict of its own per frame (can_dbc.receiver._decode)
         self._last_fresh_t_s = t_s
@@ -309,7 +315,8 @@ class Gateway:
             throttle_pct = min(throttle_pct, limit_pct)
         if decel_mps2 is not None:
             brake = max(brake, decel_mps2 / self._cfg.brake_full_decel_mps2)
-        return Actuation._make((min(1.0, max(0.0, throttle_pct / 100.0)), min(1.0, max(0.0, brake))))
+        return Actuation._make((min(1.0, max(0.0, throttle_pct / 100.0)), min(1.0, max(0.0, brake)),
+                                steering_wheel_angle_rad))
 
     @property
     def stats(self) -> dict[str, int]:

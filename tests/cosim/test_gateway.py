@@ -93,3 +93,12 @@ def test_real_time_two_senders_in_step_are_a_second_ecu():
     a, b = CounterSequence(), CounterSequence()
     batches = [[_override(a.next()), _override(b.next())] for _ in range(30)]
     assert _real_time_run(batches) == {"second_ecu": 0.06}
+
+
+def test_fault_entries_counted_after_start_up_only():
+    """Issue 25: the start-up FAULT (until the ECU's inputs are valid) is not an entry; each later one is."""
+    gw = Gateway(GatewayConfig())
+    seq = CounterSequence()
+    for i, mode in enumerate([3, 3, 0, 0, 3, 3, 0, 1, 3, 0]):
+        gw.offer(_override(seq.next(), mode=mode, active=0, limit=100.0, decel=0.0), i * 0.01)
+    assert gw.fault_entries == 2
