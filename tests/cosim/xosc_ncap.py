@@ -34,15 +34,20 @@ def _speed(v_mps: float, shape=xosc.DynamicsShapes.step, dim=xosc.DynamicsDimens
     return xosc.AbsoluteSpeedAction(v_mps, xosc.TransitionDynamics(shape, dim, value))
 
 
-def write_case(out: Path, name: str, ego_kmh: float, target_kmh: float, gap_m: float, duration_s: float,
-               brake: tuple[float, float, float] | None = None) -> Path:
-    """One test as ``name.xosc`` + ``name.xodr``; ``brake``: (decel m/s^2, ramp s, start time s)."""
-    v, vt = ego_kmh / KMH, target_kmh / KMH
+def _write_road(out: Path, name: str) -> None:
+    """``name.xodr``: a straight 2 km road, one 3.5 m lane each way."""
     road = xodr.create_road(xodr.Line(2000.0), id=1, left_lanes=1, right_lanes=1, lane_width=3.5)
     odr = xodr.OpenDrive(name)
     odr.add_road(road)
     odr.adjust_roads_and_lanes()
     odr.write_xml(str(out / f"{name}.xodr"))
+
+
+def write_case(out: Path, name: str, ego_kmh: float, target_kmh: float, gap_m: float, duration_s: float,
+               brake: tuple[float, float, float] | None = None) -> Path:
+    """One test as ``name.xosc`` + ``name.xodr``; ``brake``: (decel m/s^2, ramp s, start time s)."""
+    v, vt = ego_kmh / KMH, target_kmh / KMH
+    _write_road(out, name)
     ego, target = _vehicle("vut", VUT), _vehicle("gvt", GVT)
     ego_front = VUT[2] + VUT[0] / 2
     target_rear = GVT[2] - GVT[0] / 2
