@@ -38,7 +38,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from ..world.ego import EgoBody
+from ..world.plant_fmu import PlantPose
 from ..world.scene import Scene
+from ..world.scene_build import build_objects, build_road
 from .mcap_schemas import Schemas
 
 MAP_FRAME = "map"
@@ -98,7 +101,9 @@ class SceneMessages:
         self._ego_len_m, self._ego_width_m = plant.length_m, plant.width_m
         self._bumper_offset_m = plant.front_bumper_offset_m
         self._objects = scenario.scene_objects()
-        self._scene = Scene(self._objects, plant, scenario.radar, scenario.end)
+        self._body = EgoBody(plant)  # the run's own scene model, replayed along the logged ego pose
+        self._scene = Scene(build_objects(scenario, build_road(scenario.road)), self._body, scenario.radar,
+                            scenario.end)
         self._level = self._quaternion(0.0)
         self._covariance = np.zeros(36, dtype=np.float64)
         self._empty_bytes = np.zeros(0, dtype=np.uint8)
@@ -136,10 +141,13 @@ class SceneMessages:
         moved = t["Transform"](t["Vector3"](float(ego.x_m), float(ego.y_m), 0.0), self._quaternion(ego.yaw_rad))
         frames = [t["TransformStamped"](header, EGO_FRAME, moved)]
         if self._scene:
-            self._scene.observe(ego.t_s, ego.x_m + self._bumper_offset_m)
-            for i, (obj, rear_m, _, y_m, _) in enumerate(self._scene.states(ego.t_s)):
-                centre = t["Vector3"](float(rear_m + obj.cfg.length_m / 2.0), float(y_m), 0.0)
-                frames.append(t["TransformStamped"](header, object_frame(i), t["Transform"](centre, self._level)))
+            pose = PlantPose(ego.x_m, ego.speed_mps, ego.y_m, ego.yaw_rad, 0.0, ego.speed_mps, 0.0)
+            self._scene.observe(ego.t_s, self._body.at(pose))
+            for i, (obj, st) in enumerate(zip(self._scene.objects, self._scene.states(ego.t_s))):
+                x_m, y_m = obj.centre(st)
+                centre = t["Vector3"](float(x_m), float(y_m), 0.0)
+                place = t["Transform"](centre, self._quaternion(st.yaw_rad))
+                frames.append(t["TransformStamped"](header, object_frame(i), place))
         return self._s.serialize(self._s.type(_TF)(frames), _TF)
 
     def markers(self, ego: EgoState) -> bytes:
