@@ -69,11 +69,13 @@ from ..results.run_record import LoggedFrame, RunEvent, RunMetrics, RunRecord
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S, Scenario
 from ..world.driver_models import Pedals, make_driver
 from ..world.gateway import Actuation, Gateway
+from ..world.steering_gateway import STEERING_IDS, SteeringGateway
 from ..world.plant import finite_check, open_plant
 from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, PlantSample
 from ..world.radar_model import RadarModel
 from ..world.scene import Scene
 from .phase_timer import PHASES, PhaseTimer, instrument
+from .planar_frames import PlanarFrames
 
 log = logging.getLogger(__name__)
 
@@ -126,6 +128,8 @@ class ClosedLoop:
         key = run_key(self.ecu, self._ecu_cfg)  # SecOC: None means E2E protection only
         self._signer = SecOcSender(key) if key is not None else None
         self.gateway = Gateway(scenario.gateway, conflict_window_cycles=10 if self.ecu.realtime else 1, key=key)
+        self.steering = SteeringGateway(scenario.gateway.override_timeout_s, key, lockstep=not self.ecu.realtime)
+        self._planar = PlanarFrames()
         self.record = RunRecord(self.strategy, RunMetrics(self.strategy))
         # bound once: next() of each message's E2E counter (C-level), called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
@@ -153,14 +157,17 @@ class ClosedLoop:
         w_fl, w_fr, w_rl, w_rr = sample.wheel_speeds_mps
         out = [
             encode("DriverInput", {"AccelPedal": pedals.accel_pct, "BrakePedal": pedals.brake_pct,
-                                   "SteeringWheelAngle": 0.0}, self._next_driver()),
+                                   "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}, self._next_driver()),
             encode("WheelSpeeds", {"WheelSpeedFL": min(top, max(0.0, w_fl * k)),
                                    "WheelSpeedFR": min(top, max(0.0, w_fr * k)),
                                    "WheelSpeedRL": min(top, max(0.0, w_rl * k)),
                                    "WheelSpeedRR": min(top, max(0.0, w_rr * k))}, self._next_wheels()),
         ]
+        out.append(self._planar.esc(sample))
         if cycle % self.n_track == 0:
-            out.append(encode("ObjectTrack", self.radar.measure().signals(), self._next_track()))
+            measured = self.radar.measure()
+            out.append(encode("ObjectTrack", measured.signals(), self._next_track()))
+            out += self._planar.tracks(measured)
         if self._signer is not None:  # each frame followed by its SecOC authenticator
             sign = self._signer.authenticator
             signed = []
@@ -190,10 +197,15 @@ class ClosedLoop:
     def _cycle_in(self, t_s: float, cycle: int, out: _Outgoing, applied: Actuation) -> Actuation:
         """Second half: take the ECU's frames, compute next cycle's commands, log the cycle."""
         received = self.link.collect(t_s, cycle)
-        offer = self.gateway.offer
+        offer, steer = self.gateway.offer, self.steering.offer
         for msg in received:
-            offer(msg, t_s)
+            if msg.arbitration_id in STEERING_IDS:
+                steer(msg, t_s)
+            else:
+                offer(msg, t_s)
         nxt = self.gateway.actuation(out.pedals, t_s)
+        # the EPS's overlay: checked and ramped every cycle; the plant's steer_request input is not wired yet
+        self.steering.steer_request_rad(t_s)
         self._log_cycle(t_s, out, received, applied)
         return nxt
 
@@ -316,7 +328,8 @@ class ClosedLoop:
         self.gateway.finish(t_s)
         if m.min_gap_m is not None and not math.isfinite(m.min_gap_m):
             m.min_gap_m = None
-        self.record.events = merge_events(self.link.events, self.gateway.events, self.record.events)
+        self.record.events = merge_events(self.link.events, self.gateway.events, self.steering.events,
+                                          self.record.events)
         report = self.link.report()
         self.record.timing = dict(report.timing)
         self.record.ecu_report = report.ecu_report

@@ -24,7 +24,7 @@ def test_help_lists_python_cans_readers(capsys):
 @pytest.mark.parametrize("suffix", WRITABLE)
 def test_each_format_decodes(tmp_path, capsys, suffix):
     path = tmp_path / f"log{suffix}"
-    frames = [encode("DriverInput", {"AccelPedal": 42.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0}, counter=k)
+    frames = [encode("DriverInput", {"AccelPedal": 42.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}, counter=k)
               for k in range(3)]
     with can.Logger(str(path)) as logger:
         for k, msg in enumerate(frames):
