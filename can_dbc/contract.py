@@ -102,5 +102,6 @@ FAULT_BIT0, FAULT_SIGNALS = _fault_signals()
 BRAKE_DECEL_MAX_MPS2 = signal_range("SafetyOverride", "BrakeDecelRequest")[1]
 
 __all__ = ["BRAKE_DECEL_MAX_MPS2", "ECU_CYCLE_S", "FAULT_BIT0", "FAULT_SIGNALS", "LAYOUTS", "MODE_NAMES", "STRATEGIES", "STRATEGY_CODES",
-           "TIMEOUT_CYCLES", "cycle_time_s", "enumeration", "signal_dbc_per_si", "signal_max_rate", "signal_range", "signal_resolution",
+           "TIMEOUT_CYCLES", "cycle_time_s", "enumeration", "signal_dbc_per_si", "signal_max_rate", "signal_range",
+           "signal_resolution",
            "timeout_s"]

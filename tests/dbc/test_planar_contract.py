@@ -6,7 +6,6 @@ from __future__ import annotations
 import math
 import re
 
-import can
 import cantools
 import pytest
 from hypothesis import given, settings
@@ -17,6 +16,7 @@ from can_dbc.bus_load import bus_load, frame_bits
 from can_dbc.export import export
 from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_dynamics, esc_signals, track, track_signals
 from cosim.cli.main import main
+from tests.dbc.test_decode_formats import write_log
 
 PLANAR = ("SteeringOverride", "EscDynamics", *TRACK_SLOTS)
 BEFORE = ("SafetyOverride", "WheelSpeeds", "DriverInput", "ObjectTrack", "EcuStatus", "EcuIdentity", "SimClock")
@@ -73,10 +73,7 @@ def test_a_blf_of_the_planar_frames_decodes(tmp_path, capsys):
               *(encode(name, track_signals(Track(slot, 1, 5, 10.0 + slot, -2.0, -1.0, 1.5), slot), 0)
                 for name, slot in TRACK_SLOTS.items())]
     path = tmp_path / "planar.blf"
-    with can.Logger(str(path)) as logger:
-        for k, msg in enumerate(frames):
-            msg.timestamp = 1.0 + 0.001 * k
-            logger.on_message_received(msg)
+    write_log(path, frames)
     assert main(["dbc", "decode", str(path)]) == 0
     out = capsys.readouterr().out
     assert "SteeringOverride {'SteerActive': 1, 'SteerAngleRequest': -1.25}" in out
