@@ -13,7 +13,8 @@ It checks every ``SteeringOverride`` as :mod:`cosim.world.gateway` checks
   the DBC's ``SigMaxRate`` (23 deg/s) is refused (``RateOfChange``, counted); the last
   accepted request stays the target. Inactive counts as a request of 0;
 * conflict: a repeated or jumping counter, or (lock-step) two valid frames in one cycle,
-  puts the sender in doubt for ``CONFLICT_HOLD_S``; meanwhile the most restrictive of the
+  puts the sender in doubt for ``CONFLICT_HOLD_S`` (a ``steering_conflict`` event; a second ECU is
+  reported once, as ``second_ecu``, by :mod:`cosim.world.gateway`); meanwhile the most restrictive of the
   valid requests of the last ``timeout_s`` applies: none if any is inactive or two disagree
   in sign, else the smallest angle;
 * timeout: without a valid frame for ``timeout_s`` the target is 0.
@@ -97,8 +98,8 @@ class SteeringGateway:
 
     def _doubt(self, t_s: float) -> None:
         if t_s >= self._doubt_until_t_s:
-            self.events.append(RunEvent(t_s, "second_ecu", "SteeringOverride from a second sender: the most "
-                                                           "restrictive valid steering request applies"))
+            self.events.append(RunEvent(t_s, "steering_conflict", "SteeringOverride from a second sender: the "
+                                                                  "most restrictive valid steering request applies"))
         self._doubt_until_t_s = t_s + CONFLICT_HOLD_S
 
     def _refuse(self, t_s: float, kind: str, detail: str) -> bool:

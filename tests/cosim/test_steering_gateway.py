@@ -90,7 +90,7 @@ def test_second_sender_applies_the_most_restrictive_request():
     assert applied[9] == pytest.approx(math.radians(2.0))
     assert applied[-1] == 0.0  # none: ramped out at the DBC rate
     assert applied[10] == pytest.approx(math.radians(2.0 - MAX_RATE_DEGPS * CYCLE_S))
-    assert "second_ecu" in {e.kind for e in gw.events}
+    assert "steering_conflict" in {e.kind for e in gw.events}
 
 
 def test_two_active_senders_get_the_smaller_angle():
