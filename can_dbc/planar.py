@@ -6,7 +6,8 @@ receiver (the co-simulation master sends them, the ECU latches them):
 * :class:`EscDynamics` <-> ``EscDynamics``: yaw rate (rad/s <-> deg/s), lateral and
   longitudinal acceleration (m/s²);
 * :class:`Track` <-> ``ObjectTrack2D_<slot>``: the slot's ``Track<slot>*`` signals;
-  ``None`` is an empty slot (``Existence`` 0, ``NO_TRACK``).
+  ``None`` is an empty slot (``Existence`` 0, ``NO_TRACK``); :func:`existence_class` maps an
+  existence probability to the DBC's classes.
 
 The slots are the DBC's ``ObjectTrack2D_*`` messages in ID order (:data:`TRACK_SLOTS`);
 the layout and the rule for filling them are in the DBC's comment of ``ObjectTrack2D_0``.
@@ -32,6 +33,8 @@ _TRACK_FIELDS = ("Id", "SizeClass", "Existence", "PosX", "PosY", "VelX", "VelY")
 #: per slot: its ``Track<slot>*`` signal names in :data:`_TRACK_FIELDS` order
 _TRACK_SIGNALS = tuple(tuple(f"Track{slot}{field}" for field in _TRACK_FIELDS) for slot in range(len(TRACK_SLOTS)))
 _LIMITS = {(s.name): (s.minimum, s.maximum) for name in ("EscDynamics", *TRACK_SLOTS) for s in LAYOUTS[name].signals}
+#: upper bounds (exclusive) of the existence classes 1..6 (``BELOW_25_PCT`` .. ``BELOW_99_9_PCT``); 7 is the rest
+EXISTENCE_BOUNDS = (0.25, 0.50, 0.75, 0.90, 0.99, 0.999)
 
 
 class EscDynamics(NamedTuple):
@@ -52,6 +55,13 @@ class Track(NamedTuple):
     y_m: float
     vx_mps: float
     vy_mps: float
+
+
+def existence_class(probability: float) -> int:
+    """The ``Existence`` class (1..7) of an existence probability in (0, 1]; 0 (no track) for 0 or less."""
+    if not probability > 0.0:
+        return 0
+    return 1 + next((k for k, bound in enumerate(EXISTENCE_BOUNDS) if probability < bound), len(EXISTENCE_BOUNDS))
 
 
 def _clamp(name: str, value: float) -> float:

@@ -58,6 +58,7 @@ from typing import Callable
 from numpy.random import default_rng  # here, not at the first run: each forked run worker would import it
 
 from can_dbc import ECU_CYCLE_S, CounterSequence, SecOcSender, encode, signal_layout
+from can_dbc.planar import EscDynamics
 from can_dbc.units import KMH_PER_MPS
 from ecu import EcuConfig
 
@@ -75,7 +76,7 @@ from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, PlantSample
 from ..world.radar_model import RadarModel
 from ..world.scene import Scene
 from .phase_timer import PHASES, PhaseTimer, instrument
-from .planar_frames import PlanarFrames
+from .planar_frames import PlanarFrames, tracks_of
 
 log = logging.getLogger(__name__)
 
@@ -155,7 +156,7 @@ class ClosedLoop:
         top, k = _WHEEL_MAX_KMH, KMH_PER_MPS
         # the four clamps written out, not a list comprehension (1.08 instead of 1.39 µs, timeit)
         w_fl, w_fr, w_rl, w_rr = sample.wheel_speeds_mps
-        out = [
+        out = [  # the steering wheel: held straight by today's drivers (steering drivers: issue 21, part 4)
             encode("DriverInput", {"AccelPedal": pedals.accel_pct, "BrakePedal": pedals.brake_pct,
                                    "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}, self._next_driver()),
             encode("WheelSpeeds", {"WheelSpeedFL": min(top, max(0.0, w_fl * k)),
@@ -163,11 +164,13 @@ class ClosedLoop:
                                    "WheelSpeedRL": min(top, max(0.0, w_rl * k)),
                                    "WheelSpeedRR": min(top, max(0.0, w_rr * k))}, self._next_wheels()),
         ]
-        out.append(self._planar.esc(sample))
+        # yaw rate and lateral acceleration: 0 until the plant wrapper reads them (issue 21, part 3); the
+        # planar plant gives exactly that while nothing steers it (the drivers hold the wheel straight)
+        out.append(self._planar.esc(EscDynamics(0.0, 0.0, sample.accel_mps2)))
         if cycle % self.n_track == 0:
             measured = self.radar.measure()
             out.append(encode("ObjectTrack", measured.signals(), self._next_track()))
-            out += self._planar.tracks(measured)
+            out += self._planar.tracks(tracks_of(measured))
         if self._signer is not None:  # each frame followed by its SecOC authenticator
             sign = self._signer.authenticator
             signed = []

@@ -14,7 +14,9 @@ from hypothesis import strategies as st
 from can_dbc import DATABASE, DBC_PATH, check_alone, encode
 from can_dbc.bus_load import bus_load, frame_bits
 from can_dbc.export import export
-from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_dynamics, esc_signals, track, track_signals
+from can_dbc.contract import enumeration
+from can_dbc.planar import (TRACK_SLOTS, EscDynamics, Track, esc_dynamics, esc_signals, existence_class, track,
+                             track_signals)
 from cosim.cli.main import main
 from tests.dbc.test_decode_formats import write_log
 
@@ -111,3 +113,11 @@ def test_sensor_values_beyond_the_dbc_saturate_and_empty_slots_decode_as_none():
     esc = esc_dynamics(check_alone(encode("EscDynamics", esc_signals(EscDynamics(9.0, -35.0, math.nan)), 0)).signals)
     assert esc == pytest.approx(EscDynamics(math.radians(163.83), -20.48, -20.48))
     assert track(check_alone(encode("ObjectTrack2D_0", track_signals(None, 0), 0)).signals, 0) is None
+
+
+def test_existence_probabilities_map_onto_the_dbc_classes():
+    names = enumeration("ObjectTrack2D_0", "Track0Existence")
+    cases = {0.0: "NO_TRACK", 0.1: "BELOW_25_PCT", 0.25: "BELOW_50_PCT", 0.5: "BELOW_75_PCT",
+             0.875: "BELOW_90_PCT", 0.9: "BELOW_99_PCT", 0.995: "BELOW_99_9_PCT", 0.999: "UP_TO_100_PCT",
+             1.0: "UP_TO_100_PCT"}
+    assert {p: names[existence_class(p)] for p in cases} == cases
