@@ -5,12 +5,12 @@ receiver (the co-simulation master sends them, the ECU latches them):
 
 * :class:`EscDynamics` <-> ``EscDynamics``: yaw rate (rad/s <-> deg/s), lateral and
   longitudinal acceleration (m/s²);
-* :class:`Track` <-> ``ObjectTrack2D_<slot>``: the slot's ``Track<slot>*`` signals;
+* :class:`Track` <-> ``RadarTrack<slot>``: the slot's ``Track<slot>*`` signals;
   ``None`` is an empty slot (``Existence`` 0, ``NO_TRACK``); :func:`existence_class` maps an
   existence probability to the DBC's classes.
 
-The slots are the DBC's ``ObjectTrack2D_*`` messages in ID order (:data:`TRACK_SLOTS`);
-the layout and the rule for filling them are in the DBC's comment of ``ObjectTrack2D_0``.
+The slots are the DBC's ``RadarTrack*`` messages in ID order (:data:`TRACK_SLOTS`);
+the layout and the rule for filling them are in the DBC's comment of ``RadarTrack0``.
 Values outside a signal's DBC range are clamped into it on the way out (a sensor
 saturates); the receiver refuses out-of-range raw values on the way in.
 """
@@ -25,10 +25,10 @@ from .database import LAYOUTS
 from .units import dbc_per_si
 
 _DEG_PER_RAD = dbc_per_si("deg/s")
-#: ``ObjectTrack2D_<slot>`` message name -> slot index, in ID order
+#: ``RadarTrack<slot>`` message name -> slot index, in ID order
 TRACK_SLOTS: Mapping[str, int] = MappingProxyType({
     name: slot for slot, name in enumerate(sorted(
-        (n for n in LAYOUTS if n.startswith("ObjectTrack2D_")), key=lambda n: LAYOUTS[n].frame_id))})
+        (n for n in LAYOUTS if n.startswith("RadarTrack")), key=lambda n: LAYOUTS[n].frame_id))})
 _TRACK_FIELDS = ("Id", "SizeClass", "Existence", "PosX", "PosY", "VelX", "VelY")
 #: per slot: its ``Track<slot>*`` signal names in :data:`_TRACK_FIELDS` order
 _TRACK_SIGNALS = tuple(tuple(f"Track{slot}{field}" for field in _TRACK_FIELDS) for slot in range(len(TRACK_SLOTS)))
@@ -82,7 +82,7 @@ def esc_signals(esc: EscDynamics) -> dict[str, float]:
 
 
 def track(signals: Mapping[str, float], slot: int) -> Track | None:
-    """The track of a decoded ``ObjectTrack2D_<slot>`` frame; None for an empty slot."""
+    """The track of a decoded ``RadarTrack<slot>`` frame; None for an empty slot."""
     names = _TRACK_SIGNALS[slot]
     if not signals[names[2]]:
         return None
@@ -90,7 +90,7 @@ def track(signals: Mapping[str, float], slot: int) -> Track | None:
 
 
 def track_signals(tr: Track | None, slot: int) -> dict[str, float]:
-    """``ObjectTrack2D_<slot>`` signals (DBC units) of ``tr`` (None: an empty slot), clamped into range."""
+    """``RadarTrack<slot>`` signals (DBC units) of ``tr`` (None: an empty slot), clamped into range."""
     names = _TRACK_SIGNALS[slot]
     if tr is None or not tr.existence:
         return dict.fromkeys(names, 0)

@@ -1,7 +1,7 @@
-"""The planar frames the co-simulation master sends: ``EscDynamics`` and ``ObjectTrack2D_0..7``.
+"""The planar frames the co-simulation master sends: ``EscDynamics`` and ``RadarTrack0..7``.
 
 * ``EscDynamics`` every ECU cycle (10 ms), from the plant's motion (:class:`can_dbc.planar.EscDynamics`).
-* ``ObjectTrack2D_<slot>`` every radar cycle (50 ms), each slot with its own E2E counter: the
+* ``RadarTrack<slot>`` every radar cycle (50 ms), each slot with its own E2E counter: the
   radar's tracks in its report order, slot 0 first, the slots beyond them sent empty, tracks
   beyond the eighth not sent (the slot rule in the DBC). :func:`tracks_of` turns today's 1-D
   radar measurement into that list: one track, the measured object in 2-D (x = range,
@@ -21,8 +21,8 @@ from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_signals, track_s
 
 from ..world.radar_model import Track as RadarTrack
 
-_EXISTENCE = {name: v for v, name in enumeration("ObjectTrack2D_0", "Track0Existence").items()}
-_SIZE = {name: v for v, name in enumeration("ObjectTrack2D_0", "Track0SizeClass").items()}
+_EXISTENCE = {name: v for v, name in enumeration("RadarTrack0", "Track0Existence").items()}
+_SIZE = {name: v for v, name in enumeration("RadarTrack0", "Track0SizeClass").items()}
 
 
 def tracks_of(measured: RadarTrack) -> list[Track]:
@@ -45,6 +45,6 @@ class PlanarFrames:
         return encode("EscDynamics", esc_signals(esc), self._next_esc())
 
     def tracks(self, tracks: Sequence[Track]) -> list[can.Message]:
-        """The eight ``ObjectTrack2D`` slots of this radar cycle: ``tracks`` in order, then empty slots."""
+        """The eight ``RadarTrack`` slots of this radar cycle: ``tracks`` in order, then empty slots."""
         return [encode(name, track_signals(tracks[slot] if slot < len(tracks) else None, slot),
                        self._next_slot[slot]()) for name, slot in TRACK_SLOTS.items()]

@@ -14,7 +14,7 @@ EXPECTED = {
     "SimClock": (0x7F0, "SIM", 10),
     "SteeringOverride": (0x094, "ECU", 10),
     "EscDynamics": (0x0A8, "ESC", 10),
-    **{f"ObjectTrack2D_{k}": (0x0C2 + 2 * k, "RADAR", 50) for k in range(8)},
+    **{f"RadarTrack{k}": (0x0C2 + 2 * k, "RADAR", 50) for k in range(8)},
 }
 
 

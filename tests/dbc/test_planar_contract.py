@@ -64,7 +64,7 @@ def test_exports_carry_the_planar_messages(fmt, tmp_path):
         assert theirs.frame_id == ours.frame_id
         assert [(s.name, s.start, s.length, s.scale, s.is_signed) for s in theirs.signals] == \
                [(s.name, s.start, s.length, s.scale, s.is_signed) for s in ours.signals]
-    msg = encode("ObjectTrack2D_5", track_signals(Track(3, 4, 6, 40.0, 2.5, -10.0, 0.5), 5), 7)
+    msg = encode("RadarTrack5", track_signals(Track(3, 4, 6, 40.0, 2.5, -10.0, 0.5), 5), 7)
     assert other.decode_message(msg.arbitration_id, msg.data) == DATABASE.decode_message(msg.arbitration_id,
                                                                                           msg.data)
 
@@ -113,11 +113,11 @@ def test_esc_round_trips_within_a_resolution(yaw, ay, ax):
 def test_sensor_values_beyond_the_dbc_saturate_and_empty_slots_decode_as_none():
     esc = esc_dynamics(check_alone(encode("EscDynamics", esc_signals(EscDynamics(9.0, -35.0, math.nan)), 0)).signals)
     assert esc == pytest.approx(EscDynamics(math.radians(163.83), -20.48, -20.48))
-    assert track(check_alone(encode("ObjectTrack2D_0", track_signals(None, 0), 0)).signals, 0) is None
+    assert track(check_alone(encode("RadarTrack0", track_signals(None, 0), 0)).signals, 0) is None
 
 
 def test_existence_probabilities_map_onto_the_dbc_classes():
-    names = enumeration("ObjectTrack2D_0", "Track0Existence")
+    names = enumeration("RadarTrack0", "Track0Existence")
     cases = {0.0: "NO_TRACK", 0.1: "BELOW_25_PCT", 0.25: "BELOW_50_PCT", 0.5: "BELOW_75_PCT",
              0.875: "BELOW_90_PCT", 0.9: "BELOW_99_PCT", 0.995: "BELOW_99_9_PCT", 0.999: "UP_TO_100_PCT",
              1.0: "UP_TO_100_PCT"}

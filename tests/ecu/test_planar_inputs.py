@@ -1,5 +1,5 @@
 """The ECU and the planar frames: it receives, checks and counts EscDynamics and the
-ObjectTrack2D slots (latching them in SI; the core does not use them yet), and sends
+RadarTrack slots (latching them in SI; the core does not use them yet), and sends
 SteeringOverride pass-through (SteerActive 0) every cycle, authenticated when keyed."""
 
 import math
