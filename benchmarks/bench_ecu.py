@@ -50,7 +50,8 @@ def _input_frames(k: int) -> list[can.Message]:
     return [
         encode("WheelSpeeds", {"WheelSpeedFL": 72.0, "WheelSpeedFR": 72.0,
                                "WheelSpeedRL": 72.0, "WheelSpeedRR": 72.0}, counter=c),
-        encode("DriverInput", {"AccelPedal": 100.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0}, counter=c),
+        encode("DriverInput", {"AccelPedal": 100.0, "BrakePedal": 0.0,
+                               "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}, counter=c),
         encode("ObjectTrack", {"ObjectValid": 1, "ObjectRange": 80.0, "ObjectRangeRate": -20.0,
                                "ObjectLateral": 0.0}, counter=c),
     ]

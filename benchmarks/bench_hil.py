@@ -157,7 +157,8 @@ def round_trip(n: int, interface: str) -> None:
             _wait_join(bus, ecu)
             seqs = {name: CounterSequence() for name in ("DriverInput", "WheelSpeeds", "SimClock")}
             for k in range(n):
-                frames = [encode("DriverInput", {"AccelPedal": 100.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0},
+                frames = [encode("DriverInput", {"AccelPedal": 100.0, "BrakePedal": 0.0,
+                                                 "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0},
                                  seqs["DriverInput"].next()),
                           encode("WheelSpeeds", {f"WheelSpeed{w}": 50.0 for w in ("FL", "FR", "RL", "RR")},
                                  seqs["WheelSpeeds"].next()),

@@ -29,7 +29,7 @@ from can_dbc import CounterSequence, Receiver, SecOcSender, SecOcVerifier, encod
 
 SIGNALS = {
     "WheelSpeeds": {"WheelSpeedFL": 81.2, "WheelSpeedFR": 81.25, "WheelSpeedRL": 80.9, "WheelSpeedRR": 81.0},
-    "DriverInput": {"AccelPedal": 100.0, "BrakePedal": 0.0, "SteeringWheelAngle": -3.5},
+    "DriverInput": {"AccelPedal": 100.0, "BrakePedal": 0.0, "SteeringWheelAngle": -3.5, "SteeringWheelRate": 0.0},
     "ObjectTrack": {"ObjectValid": 1, "ObjectRange": 120.34, "ObjectRangeRate": -22.5, "ObjectLateral": 0.2},
 }
 NAMES = tuple(SIGNALS)

@@ -6,6 +6,8 @@ Every other package takes these facts from here instead of restating them:
   10 ms: the ECU's cycle and the co-simulation's lock-step), :func:`cycle_time_s`;
 * reception timeouts, :func:`timeout_s` = :data:`TIMEOUT_CYCLES` missed cycles
   of the message (50 ms for the 10 ms messages, 250 ms for ``ObjectTrack``);
+* rate-of-change limits, :func:`signal_max_rate` (the DBC's ``SigMaxRate``, e.g.
+  ``SteeringOverride.SteerAngleRequest``: 23 deg/s);
 * signal ranges, :func:`signal_range` (the DBC's [minimum, maximum]), e.g.
   :data:`BRAKE_DECEL_MAX_MPS2` = 15 m/s², the full scale of ``BrakeDecelRequest``;
 * enumerations from ``VAL_``, :func:`enumeration`: :data:`MODE_NAMES`
@@ -46,6 +48,14 @@ def signal_range(message_name: str, signal_name: str) -> tuple[float, float]:
 def signal_resolution(message_name: str, signal_name: str) -> float:
     """The signal's DBC scale: the physical value of one raw step, in DBC units."""
     return signal_layout(message_name, signal_name).scale
+
+
+def signal_max_rate(message_name: str, signal_name: str) -> float:
+    """The signal's DBC ``SigMaxRate``: the fastest change (DBC units per second) a receiver accepts."""
+    rate = signal_layout(message_name, signal_name).max_rate
+    if not rate:
+        raise KeyError(f"{message_name}.{signal_name} has no SigMaxRate attribute")
+    return rate
 
 
 def enumeration(message_name: str, signal_name: str) -> Mapping[int, str]:
@@ -92,5 +102,6 @@ FAULT_BIT0, FAULT_SIGNALS = _fault_signals()
 BRAKE_DECEL_MAX_MPS2 = signal_range("SafetyOverride", "BrakeDecelRequest")[1]
 
 __all__ = ["BRAKE_DECEL_MAX_MPS2", "ECU_CYCLE_S", "FAULT_BIT0", "FAULT_SIGNALS", "LAYOUTS", "MODE_NAMES", "STRATEGIES", "STRATEGY_CODES",
-           "TIMEOUT_CYCLES", "cycle_time_s", "enumeration", "signal_dbc_per_si", "signal_range", "signal_resolution",
+           "TIMEOUT_CYCLES", "cycle_time_s", "enumeration", "signal_dbc_per_si", "signal_max_rate", "signal_range",
+           "signal_resolution",
            "timeout_s"]

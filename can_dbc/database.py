@@ -65,6 +65,8 @@ class SignalLayout:
     is_integer: bool
     choices: frozenset[int]
     unit: str
+    #: the DBC's ``SigMaxRate`` (DBC units per second): the fastest change a receiver accepts; 0 = unlimited
+    max_rate: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -108,6 +110,7 @@ def _signal_layout(signal: dict[str, Any]) -> SignalLayout:
         is_integer=scale == 1.0 and offset == 0.0,
         choices=frozenset(int(value) for value, _name in signal["choices"]),
         unit=signal["unit"],
+        max_rate=float(signal["max_rate"]),
     )
 
 
@@ -152,6 +155,11 @@ def _authenticates(message) -> int | None:
     return int(attribute.value) if attribute is not None and int(attribute.value) else None
 
 
+def _max_rate(signal) -> float:
+    attribute = signal.dbc.attributes.get("SigMaxRate") if signal.dbc else None
+    return float(attribute.value) if attribute is not None else 0.0
+
+
 def _extract(database) -> list[dict[str, Any]]:
     """What the tables below need of each message of ``database``, as plain JSON-able data."""
     return [{"name": m.name, "frame_id": m.frame_id, "extended": m.is_extended_frame, "length": m.length,
@@ -159,7 +167,7 @@ def _extract(database) -> list[dict[str, Any]]:
              "authenticates": _authenticates(m),
              "signals": [{"name": s.name, "start": s.start, "length": s.length, "byte_order": s.byte_order,
                           "signed": s.is_signed, "scale": s.scale, "offset": s.offset, "minimum": s.minimum,
-                          "maximum": s.maximum, "unit": s.unit or "",
+                          "maximum": s.maximum, "unit": s.unit or "", "max_rate": _max_rate(s),
                           "choices": [[int(k), str(v)] for k, v in sorted((s.choices or {}).items())]}
                          for s in m.signals]}
             for m in database.messages]

@@ -25,6 +25,7 @@ DBC_PER_SI: dict[str, float] = {
     "%": PERCENT,
     "ms": 1000.0,
     "deg": 180.0 / math.pi,
+    "deg/s": 180.0 / math.pi,
 }
 
 

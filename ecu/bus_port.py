@@ -21,13 +21,16 @@ import can
 
 from can_dbc import RX_RATE, RX_SEQUENCE, Frame, Receiver, encode, signal_range
 from can_dbc.contract import FAULT_SIGNALS as DBC_FAULT_SIGNALS
-from can_dbc.units import KMH_PER_MPS, PERCENT
+from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_dynamics, track
+from can_dbc.units import KMH_PER_MPS, PERCENT, dbc_per_si
 
 from .core import CoreInputs, CoreOutputs
 from .core.types import NEVER_S, FaultFlag
 
-#: messages the ECU consumes (the SimClock paces sim-time mode only).
-INPUT_MESSAGES = ("WheelSpeeds", "DriverInput", "ObjectTrack")
+#: messages the ECU's core consumes (the SimClock paces sim-time mode only).
+CORE_INPUT_MESSAGES = ("WheelSpeeds", "DriverInput", "ObjectTrack")
+#: every message the ECU receives and checks: the core's, and the planar ones it latches but does not use yet
+INPUT_MESSAGES = (*CORE_INPUT_MESSAGES, "EscDynamics", *TRACK_SLOTS)
 SIM_CLOCK = "SimClock"
 #: each fault bit's 1-bit ``EcuStatus`` signal, from the DBC (bit k at DBC bit 50 + k)
 FAULT_SIGNALS: dict[FaultFlag, str] = {FaultFlag(bit): name for bit, name in enumerate(DBC_FAULT_SIGNALS)}
@@ -57,6 +60,9 @@ class InputLatch:
         self.object_range_m = 0.0
         self.object_range_rate_mps = 0.0
         self.object_lateral_m = 0.0
+        self.steering_wheel_rad = 0.0
+        self.esc: EscDynamics | None = None  # latched, not used by the core yet (the planar ECU: next issue)
+        self.tracks: list[Track | None] = [None] * len(TRACK_SLOTS)
         self.rx_t_s = {name: NEVER_S for name in INPUT_MESSAGES}
 
     def ingest(self, frame: Frame, t_s: float) -> bool:
@@ -73,11 +79,16 @@ class InputLatch:
         elif name == "DriverInput":
             self.accel_pedal = s["AccelPedal"] / PERCENT
             self.brake_pedal = s["BrakePedal"] / PERCENT
+            self.steering_wheel_rad = s["SteeringWheelAngle"] / _DEG_PER_RAD
         elif name == "ObjectTrack":
             self.object_valid = bool(s["ObjectValid"])
             self.object_range_m = s["ObjectRange"]
             self.object_range_rate_mps = s["ObjectRangeRate"]
             self.object_lateral_m = s["ObjectLateral"]
+        elif name == "EscDynamics":
+            self.esc = esc_dynamics(s)
+        elif (slot := TRACK_SLOTS.get(name)) is not None:
+            self.tracks[slot] = track(s, slot)
         else:
             return False
         self.rx_t_s[name] = t_s
@@ -98,6 +109,15 @@ class InputLatch:
             wheel_rx_flags=_RX_FAULTS[wheel_rx], driver_rx_flags=_RX_FAULTS[driver_rx],
             object_rx_flags=_RX_FAULTS[object_rx], node_flags=node_flags,
         )
+
+
+def steering_message(counter: int) -> can.Message:
+    """``SteeringOverride`` pass-through (``SteerActive`` 0): the longitudinal ECU requests no steering."""
+    return encode("SteeringOverride", _NO_STEERING, counter=counter)
+
+
+_NO_STEERING = {"SteerActive": 0, "SteerAngleRequest": 0.0}
+_DEG_PER_RAD = dbc_per_si("deg")
 
 
 def _clamped(value: float, limits: tuple[float, float]) -> float:

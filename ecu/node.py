@@ -45,7 +45,7 @@ import can
 from can_dbc import (AUTHENTICATORS, ECU_CYCLE_S, LAYOUTS, CounterSequence, Frame, Receiver, SecOcSender,
                      SecOcVerifier, cycle_time_s, encode, load_key_file)
 
-from .bus_port import INPUT_MESSAGES, SIM_CLOCK, InputLatch, override_message, status_message
+from .bus_port import INPUT_MESSAGES, SIM_CLOCK, InputLatch, override_message, status_message, steering_message
 from .config import STATUS_PERIOD_CYCLES, EcuConfig
 from .config_digest import identity_signals
 from .core import CoreOutputs, CoreState, FaultFlag, Mode, step as core_step
@@ -53,7 +53,9 @@ from .scheduler import RunBoundary, RunReport, run_real_time, run_sim_time
 
 log = logging.getLogger(__name__)
 SIM_CLOCK_ID = LAYOUTS[SIM_CLOCK].frame_id
-_FOREIGN_IDS = frozenset((LAYOUTS["SafetyOverride"].frame_id, AUTHENTICATORS["SafetyOverride"]))
+#: the ECU's own requests: one on the bus that this ECU did not send is foreign
+_FOREIGN_IDS = frozenset(fid for name in ("SafetyOverride", "SteeringOverride")
+                         for fid in (LAYOUTS[name].frame_id, AUTHENTICATORS[name]))
 #: how long (s of cycle time) a node finding keeps its fault flag set
 FLAG_HOLD_S = 1.0
 #: a SimClock may advance by 1 .. this many ECU cycles (E2E tolerates two lost frames likewise)
@@ -86,6 +88,7 @@ class EcuNode:
         self._latch = InputLatch()
         self._state = CoreState()
         self._next_override = CounterSequence().next
+        self._next_steering = CounterSequence().next
         self._next_status = CounterSequence().next
         self._cycle_index = 0
         self._pending: dict[str, Frame] = {}  # sim time: the latest checked frame of each message
@@ -206,7 +209,7 @@ class EcuNode:
             self._foreign(t_s)
 
     def _foreign(self, t_s: float) -> None:
-        """A SafetyOverride (or its authenticator) that this ECU did not send: panda's relay malfunction."""
+        """A SafetyOverride or SteeringOverride (or an authenticator) this ECU did not send: a relay malfunction."""
         self._flag_t_s[FaultFlag.FOREIGN_OVERRIDE] = t_s
         self._errors["foreign_overrides"] += 1
 
@@ -233,10 +236,10 @@ class EcuNode:
             self._errors["internal_errors"] += 1
             outputs = self._internal_fault()
         self.outputs = outputs
-        override = override_message(outputs, self._next_override())
-        self._send(override)
-        if self._signer is not None:
-            self._send(self._signer.authenticator(override))
+        for request in (override_message(outputs, self._next_override()), steering_message(self._next_steering())):
+            self._send(request)
+            if self._signer is not None:
+                self._send(self._signer.authenticator(request))
         if self._cycle_index % self.config.status_period_cycles == 0:
             self._send(status_message(outputs, self.config.strategy_code, self._next_status()))
             if self._identity is not None and self._cycle_index % IDENTITY_PERIOD_CYCLES == 0:

@@ -3,8 +3,8 @@
 Each cycle the master sends its frames, then ``SimClock`` (``SimTimeMs =
 round(t * 1000)``); the ECU (``crd ecu --sim-time``) runs one cycle on it,
 after the frames before it, and the master waits up to ``stall_timeout_s``
-(wall time) for that cycle's ``SafetyOverride`` (and, for a spawned ECU, the
-``EcuStatus`` due in that cycle) before it advances. The ECU sees the same
+(wall time) for that cycle's ``SafetyOverride`` and ``SteeringOverride`` (and,
+for a spawned ECU, the ``EcuStatus`` due in that cycle) before it advances. The ECU sees the same
 frames at the same cycle times as in process, so metrics and time series are
 identical. A silent ECU is a stall (:mod:`cosim.link.stall`): simulated time
 is held while the master waits; past ``stall_timeout_s`` it stops the run with
@@ -26,9 +26,12 @@ from .ecu_identity import IdentityCheck
 from .ecu_link import EcuOptions, LinkReport
 from .stall import StallWatch
 
-OVERRIDE_ID = LAYOUTS["SafetyOverride"].frame_id
 STATUS_ID = LAYOUTS["EcuStatus"].frame_id
-OVERRIDE_AUTH_ID = AUTHENTICATORS["SafetyOverride"]
+#: the ECU's requests, sent every cycle: a cycle's reply is complete with both (the steering gateway
+#: counts SteeringOverride frames per cycle, so one must not slip into the next cycle's collection)
+_REQUESTS = ("SafetyOverride", "SteeringOverride")
+REPLY_IDS = frozenset(LAYOUTS[name].frame_id for name in _REQUESTS)
+REPLY_AUTH_IDS = REPLY_IDS | frozenset(AUTHENTICATORS[name] for name in _REQUESTS)
 
 
 class LockStepLink:
@@ -73,7 +76,7 @@ class LockStepLink:
         endpoint, received = self.endpoint, []
         if endpoint.lost:
             return endpoint.drain(t_s, received)
-        wanted = {OVERRIDE_ID} if self._signer is None else {OVERRIDE_ID, OVERRIDE_AUTH_ID}
+        wanted = set(REPLY_IDS if self._signer is None else REPLY_AUTH_IDS)
         if self._status_period is not None and cycle % self._status_period == 0:
             wanted.add(STATUS_ID)
         # without a peer count the first reply wait is the join wait

@@ -70,6 +70,7 @@ from ..scenarios.config import OBJECT_TRACK_PERIOD_S, Scenario
 from ..world.driver_models import Pedals, make_driver
 from ..world.ego import Ego, EgoBody
 from ..world.gateway import Actuation, Gateway
+from ..world.steering_gateway import STEERING_IDS, SteeringGateway
 from ..world.plant import finite_check, open_plant
 from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, PlantSample
 from ..world.radar2d import Track
@@ -81,6 +82,7 @@ from ..world.scene_contact import ContactWatch, Hit
 from ..world.steering_models import make_steering
 from ..results.run_record import pose_cells, timeseries_columns
 from .phase_timer import PHASES, PhaseTimer, instrument
+from .planar_frames import PlanarFrames, tracks_2d, tracks_of
 
 log = logging.getLogger(__name__)
 
@@ -132,6 +134,9 @@ class ClosedLoop:
         key = run_key(self.ecu, self._ecu_cfg)  # SecOC: None means E2E protection only
         self._signer = SecOcSender(key) if key is not None else None
         self.gateway = Gateway(scenario.gateway, conflict_window_cycles=10 if self.ecu.realtime else 1, key=key)
+        self.steering_gateway = SteeringGateway(scenario.gateway.override_timeout_s, key,
+                                                lockstep=not self.ecu.realtime)
+        self._planar = PlanarFrames()
         self.record = RunRecord(self.strategy, RunMetrics(self.strategy), columns=timeseries_columns(scenario))
         # bound once: next() of each message's E2E counter (C-level), called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
@@ -167,22 +172,26 @@ class ClosedLoop:
 
     # -- one cycle ------------------------------------------------------------
     def _frames_out(self, cycle: int, sample: PlantSample, pedals: Pedals,
-                    tracks: tuple[Track, ...] | None = None) -> list:
+                    tracks: tuple[Track, ...] | None = None, steering_rad: float = 0.0) -> list:
         """This cycle's frames to the ECU. ``tracks``: the 2-D radar's tracks on its report cycles (the same
         cycles as ``ObjectTrack``; None on the others, and in 1-D runs), for the planar contract to encode."""
         top, k = _WHEEL_MAX_KMH, KMH_PER_MPS
         # the four clamps written out, not a list comprehension (1.08 instead of 1.39 µs, timeit)
         w_fl, w_fr, w_rl, w_rr = sample.wheel_speeds_mps
-        out = [
+        out = [  # the driver's steering wheel: 0 for the drivers that hold it straight (every 1-D run)
             encode("DriverInput", {"AccelPedal": pedals.accel_pct, "BrakePedal": pedals.brake_pct,
-                                   "SteeringWheelAngle": 0.0}, self._next_driver()),
+                                   **self._planar.steering_wheel(steering_rad)}, self._next_driver()),
             encode("WheelSpeeds", {"WheelSpeedFL": min(top, max(0.0, w_fl * k)),
                                    "WheelSpeedFR": min(top, max(0.0, w_fr * k)),
                                    "WheelSpeedRL": min(top, max(0.0, w_rl * k)),
                                    "WheelSpeedRR": min(top, max(0.0, w_rr * k))}, self._next_wheels()),
         ]
+        out.append(self._planar.esc_of(sample.yaw_rate_radps, sample.vx_mps, sample.accel_mps2))
         if cycle % self.n_track == 0:
-            out.append(encode("ObjectTrack", self.radar.measure().signals(), self._next_track()))
+            measured = self.radar.measure()
+            out.append(encode("ObjectTrack", measured.signals(), self._next_track()))
+            # planar runs: the 2-D radar's tracks; 1-D runs: today's measurement as one track
+            out += self._planar.tracks(tracks_of(measured) if tracks is None else tracks_2d(tracks))
         if self._signer is not None:  # each frame followed by its SecOC authenticator
             sign = self._signer.authenticator
             signed = []
@@ -207,17 +216,22 @@ class ClosedLoop:
         else:
             self.radar.sample(None, 0.0)
         tracks = None if self.tracks is None else self.tracks.step(cycle, t_s, ego)
-        frames = self._frames_out(cycle, sample, pedals, tracks)
+        frames = self._frames_out(cycle, sample, pedals, tracks, steering_rad)
         frames.extend(self.link.send(t_s, cycle, frames))
         return _Outgoing(sample, ego, pedals, steering_rad, gap_m, frames)
 
     def _cycle_in(self, t_s: float, cycle: int, out: _Outgoing, applied: Actuation) -> Actuation:
         """Second half: take the ECU's frames, compute next cycle's commands, log the cycle."""
         received = self.link.collect(t_s, cycle)
-        offer = self.gateway.offer
+        offer, steer = self.gateway.offer, self.steering_gateway.offer
         for msg in received:
-            offer(msg, t_s)
+            if msg.arbitration_id in STEERING_IDS:
+                steer(msg, t_s)
+            else:
+                offer(msg, t_s)
         nxt = self.gateway.actuation(out.pedals, t_s, out.steering_rad)
+        # the EPS's overlay: checked and ramped every cycle; the plant's steer_request input is not wired yet
+        self.steering_gateway.steer_request_rad(t_s)
         self._log_cycle(t_s, out, received, applied)
         return nxt
 
@@ -348,7 +362,8 @@ class ClosedLoop:
         self.gateway.finish(t_s)
         if m.min_gap_m is not None and not math.isfinite(m.min_gap_m):
             m.min_gap_m = None
-        self.record.events = merge_events(self.link.events, self.gateway.events, self.record.events)
+        self.record.events = merge_events(self.link.events, self.gateway.events, self.steering_gateway.events,
+                                          self.record.events)
         report = self.link.report()
         self.record.timing = dict(report.timing)
         self.record.ecu_report = report.ecu_report

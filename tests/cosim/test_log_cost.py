@@ -34,7 +34,8 @@ def _frames(n: int, t0_s: float = 0.0) -> list[LoggedFrame]:
         t_s = t0_s + (i // 3) * 0.01 + (1e-9 if i % 7 == 0 else 0.0)
         msg = (encode("WheelSpeeds", {f"WheelSpeed{w}": 0.05 * i % 400 for w in ("FL", "FR", "RL", "RR")},
                       wheels.next()) if i % 2 else
-               encode("DriverInput", {"AccelPedal": 100.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0},
+               encode("DriverInput", {"AccelPedal": 100.0, "BrakePedal": 0.0,
+                                      "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0},
                       driver.next()))
         out.append(LoggedFrame(t_s, msg.arbitration_id, bytes(msg.data)))
     return out

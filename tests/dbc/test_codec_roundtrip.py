@@ -50,18 +50,20 @@ def test_mins_and_maxes_are_the_contract():
 
 def test_missing_signal_raises():
     with pytest.raises(SignalError, match="missing signal BrakePedal"):
-        encode("DriverInput", {"AccelPedal": 1.0, "SteeringWheelAngle": 0.0}, 0)
+        encode("DriverInput", {"AccelPedal": 1.0, "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}, 0)
 
 
 def test_out_of_range_raises_with_expected_and_actual():
     with pytest.raises(SignalError, match=r"expected 0.0..100.0 %, got 100.5"):
-        encode("DriverInput", {"AccelPedal": 100.5, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0}, 0)
+        encode("DriverInput", {"AccelPedal": 100.5, "BrakePedal": 0.0,
+                               "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}, 0)
 
 
 @pytest.mark.parametrize("bad", [float("nan"), float("inf")])
 def test_non_finite_raises(bad):
     with pytest.raises(SignalError, match="finite"):
-        encode("DriverInput", {"AccelPedal": bad, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0}, 0)
+        encode("DriverInput", {"AccelPedal": bad, "BrakePedal": 0.0,
+                               "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}, 0)
 
 
 def test_unknown_signal_and_message_raise():

@@ -12,6 +12,9 @@ EXPECTED = {
     "EcuStatus": (0x3A0, "ECU", 100),
     "EcuIdentity": (0x3B0, "ECU", 1000),
     "SimClock": (0x7F0, "SIM", 10),
+    "SteeringOverride": (0x094, "ECU", 10),
+    "EscDynamics": (0x0A8, "ESC", 10),
+    **{f"RadarTrack{k}": (0x0C2 + 2 * k, "RADAR", 50) for k in range(8)},
 }
 
 
@@ -26,7 +29,7 @@ def test_messages_ids_senders_cycles():
 
 
 def test_nodes():
-    assert {node.name for node in DATABASE.nodes} == {"ECU", "ESC", "DRIVER", "RADAR", "SIM"}
+    assert {node.name for node in DATABASE.nodes} == {"ECU", "ESC", "EPS", "DRIVER", "RADAR", "SIM"}
 
 
 def test_enumerations_declared():
@@ -45,6 +48,9 @@ def test_physical_signals_declare_units():
     assert units["ObjectRange"] == "m"
     assert units["SimTimeMs"] == "ms"
     assert units["AccelPedal"] == "%"
+    assert units["YawRate"] == units["SteeringWheelRate"] == "deg/s"
+    assert units["SteerAngleRequest"] == units["SteeringWheelAngle"] == "deg"
+    assert units["Track7PosY"] == "m" and units["Track7VelY"] == "m/s"
 
 
 def test_e2e_header_layout():
@@ -58,8 +64,7 @@ def test_e2e_header_layout():
 
 def test_secoc_authenticators():
     """Each protected message has an authenticator at ID + 1: 16-bit freshness, 48-bit MAC, same cycle."""
-    assert set(AUTHENTICATORS) == {"SafetyOverride", "WheelSpeeds", "DriverInput", "ObjectTrack", "SimClock",
-                                   "EcuIdentity"}
+    assert set(AUTHENTICATORS) == set(EXPECTED) - {"EcuStatus"}
     for name, auth_id in AUTHENTICATORS.items():
         protected = DATABASE.get_message_by_name(name)
         auth = DATABASE.get_message_by_frame_id(auth_id)

@@ -9,7 +9,7 @@ from can_dbc import (
     UnknownFrame, encode, e2e_p01_crc,
 )
 
-PEDALS = {"AccelPedal": 50.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0}
+PEDALS = {"AccelPedal": 50.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}
 
 
 def _frame(counter, **changes):

@@ -30,7 +30,8 @@ def _inputs(k):
     """One cycle's inputs at the DBC's rates: wheels and pedals every 10 ms, the track every 50 ms."""
     c = k % 15
     frames = [encode("WheelSpeeds", {f"WheelSpeed{w}": 72.0 for w in ("FL", "FR", "RL", "RR")}, counter=c),
-              encode("DriverInput", {"AccelPedal": 100.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0}, counter=c)]
+              encode("DriverInput", {"AccelPedal": 100.0, "BrakePedal": 0.0,
+                                     "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}, counter=c)]
     if k % 5 == 0:
         frames.append(encode("ObjectTrack", {"ObjectValid": 1, "ObjectRange": 80.0 - k * 0.2,
                                              "ObjectRangeRate": -20.0, "ObjectLateral": 0.0}, counter=k // 5 % 15))

@@ -16,7 +16,7 @@ def wheels(speed_mps: float) -> dict:
 
 
 def driver(accel_pct: float = 100.0, brake_pct: float = 0.0) -> dict:
-    return {"AccelPedal": accel_pct, "BrakePedal": brake_pct, "SteeringWheelAngle": 0.0}
+    return {"AccelPedal": accel_pct, "BrakePedal": brake_pct, "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}
 
 
 def obj(range_m: float | None, range_rate_mps: float = 0.0) -> dict:

@@ -18,7 +18,8 @@ from ecu.core import FaultFlag, Mode
 def _inputs(k, seq):
     frames = [encode("WheelSpeeds", {f"WheelSpeed{w}": 36.0 for w in ("FL", "FR", "RL", "RR")},
                      seq["WheelSpeeds"].next()),
-              encode("DriverInput", {"AccelPedal": 20.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0},
+              encode("DriverInput", {"AccelPedal": 20.0, "BrakePedal": 0.0,
+                                     "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0},
                      seq["DriverInput"].next())]
     if k % 5 == 0:
         frames.append(encode("ObjectTrack", {"ObjectValid": 0, "ObjectRange": 0.0, "ObjectRangeRate": 0.0,

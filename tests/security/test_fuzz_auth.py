@@ -20,7 +20,8 @@ def _signals(name, rng):
     if name == "WheelSpeeds":
         return {f"WheelSpeed{w}": rng.uniform(0, 200) for w in ("FL", "FR", "RL", "RR")}
     if name == "DriverInput":
-        return {"AccelPedal": rng.uniform(0, 100), "BrakePedal": rng.uniform(0, 100), "SteeringWheelAngle": 0.0}
+        return {"AccelPedal": rng.uniform(0, 100), "BrakePedal": rng.uniform(0, 100),
+                "SteeringWheelAngle": 0.0, "SteeringWheelRate": 0.0}
     if name == "ObjectTrack":
         return {"ObjectValid": 1, "ObjectRange": rng.uniform(0, 250), "ObjectRangeRate": rng.uniform(-50, 50),
                 "ObjectLateral": 0.0}

@@ -1,0 +1,85 @@
+"""The planar frames the co-simulation master sends: ``EscDynamics`` and ``RadarTrack0..7``.
+
+* ``EscDynamics`` every ECU cycle (10 ms), from the plant's motion (:class:`can_dbc.planar.EscDynamics`).
+* ``RadarTrack<slot>`` every radar cycle (50 ms), each slot with its own E2E counter: the
+  radar's tracks in its report order, slot 0 first, the slots beyond them sent empty, tracks
+  beyond the eighth not sent (the slot rule in the DBC). :func:`tracks_of` turns today's 1-D
+  radar measurement into that list: one track, the measured object in 2-D (x = range,
+  y = lateral offset, vx = range rate, vy = 0; id 0; size class ``UNKNOWN``: the model has none;
+  existence the top class: the model reports an object or none).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import can
+
+from can_dbc import ECU_CYCLE_S, CounterSequence, encode, signal_layout
+from can_dbc.contract import enumeration
+from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_signals, track_signals
+
+from ..world.radar2d import Track as Radar2DTrack
+from ..world.radar_model import Track as RadarTrack
+
+_EXISTENCE = {name: v for v, name in enumeration("RadarTrack0", "Track0Existence").items()}
+_SIZE = {name: v for v, name in enumeration("RadarTrack0", "Track0SizeClass").items()}
+_WHEEL_ANGLE_MAX_DEG = signal_layout("DriverInput", "SteeringWheelAngle").maximum
+_WHEEL_RATE_MAX_DEGPS = signal_layout("DriverInput", "SteeringWheelRate").maximum
+
+
+def tracks_of(measured: RadarTrack) -> list[Track]:
+    """Today's radar measurement as a list of 2-D tracks (empty when it reports no object)."""
+    if not measured.valid:
+        return []
+    return [Track(0, _SIZE["UNKNOWN"], _EXISTENCE["UP_TO_100_PCT"], measured.range_m, measured.lateral_m,
+                  measured.range_rate_mps, 0.0)]
+
+
+#: existence probability -> the DBC's existence class: the first class whose upper bound is not below it
+_EXISTENCE_BOUNDS = ((0.25, "BELOW_25_PCT"), (0.5, "BELOW_50_PCT"), (0.75, "BELOW_75_PCT"), (0.9, "BELOW_90_PCT"),
+                     (0.99, "BELOW_99_PCT"), (0.999, "BELOW_99_9_PCT"))
+
+
+def existence_class(p: float) -> int:
+    """The ``Track<i>Existence`` value of an existence probability ``p`` (0 < p <= 1)."""
+    return _EXISTENCE[next((name for bound, name in _EXISTENCE_BOUNDS if p < bound), "UP_TO_100_PCT")]
+
+
+def tracks_2d(tracks: Sequence[Radar2DTrack]) -> list[Track]:
+    """The 2-D radar's tracks (:mod:`cosim.world.radar2d`, in its report order) as the contract's tracks; the
+    size class by name (the targets' classes are the DBC's, lower case), unknown names as ``UNKNOWN``."""
+    return [Track(t.id, _SIZE.get(t.size_class.upper(), _SIZE["UNKNOWN"]), existence_class(t.existence),
+                  t.x_m, t.y_m, t.vx_mps, t.vy_mps) for t in tracks if t.existence > 0.0]
+
+
+class PlanarFrames:
+    """Encodes the planar frames with one E2E counter per message."""
+
+    def __init__(self) -> None:
+        self._next_esc = CounterSequence().next
+        self._next_slot = tuple(CounterSequence().next for _ in TRACK_SLOTS)
+        self._wheel_deg = 0.0  # the steering-wheel angle last sent (deg), for its rate
+
+    def steering_wheel(self, steering_rad: float) -> dict[str, float]:
+        """``DriverInput``'s steering signals (DBC units) for the driver's wheel angle this cycle: the angle,
+        and its rate as the difference to the last cycle's over the ECU cycle, each clamped into range."""
+        deg = min(_WHEEL_ANGLE_MAX_DEG, max(-_WHEEL_ANGLE_MAX_DEG, math.degrees(steering_rad)))
+        rate = min(_WHEEL_RATE_MAX_DEGPS, max(-_WHEEL_RATE_MAX_DEGPS, (deg - self._wheel_deg) / ECU_CYCLE_S))
+        self._wheel_deg = deg
+        return {"SteeringWheelAngle": deg, "SteeringWheelRate": rate}
+
+    def esc_of(self, yaw_rate_radps: float, vx_mps: float, accel_mps2: float) -> can.Message:
+        """``EscDynamics`` from the plant's motion: the lateral acceleration as vx * yaw rate (steady state; the
+        plant's own ay output is not mapped yet). Exactly 0 while nothing steers (every 1-D run)."""
+        return self.esc(EscDynamics(yaw_rate_radps, vx_mps * yaw_rate_radps, accel_mps2))
+
+    def esc(self, esc: EscDynamics) -> can.Message:
+        """``EscDynamics`` of this cycle."""
+        return encode("EscDynamics", esc_signals(esc), self._next_esc())
+
+    def tracks(self, tracks: Sequence[Track]) -> list[can.Message]:
+        """The eight ``RadarTrack`` slots of this radar cycle: ``tracks`` in order, then empty slots."""
+        return [encode(name, track_signals(tracks[slot] if slot < len(tracks) else None, slot),
+                       self._next_slot[slot]()) for name, slot in TRACK_SLOTS.items()]

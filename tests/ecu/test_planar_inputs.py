@@ -1,0 +1,58 @@
+"""The ECU and the planar frames: it receives, checks and counts EscDynamics and the
+RadarTrack slots (latching them in SI; the core does not use them yet), and sends
+SteeringOverride pass-through (SteerActive 0) every cycle, authenticated when keyed."""
+
+import math
+import uuid
+
+import can
+import pytest
+
+from can_dbc import LAYOUTS, CounterSequence, Receiver, SecOcSender, SecOcVerifier, encode
+from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_signals, track_signals
+from ecu import EcuConfig, EcuNode
+
+KEY = bytes(range(16))
+TRACK = Track(9, 2, 7, 14.25, -1.5, -6.0, 1.25)
+
+
+def _inputs(k, seqs):
+    frames = [encode("WheelSpeeds", {f"WheelSpeed{w}": 36.0 for w in ("FL", "FR", "RL", "RR")}, seqs["w"].next()),
+              encode("DriverInput", {"AccelPedal": 30.0, "BrakePedal": 0.0, "SteeringWheelAngle": -45.0,
+                                     "SteeringWheelRate": 10.0}, seqs["d"].next()),
+              encode("EscDynamics", esc_signals(EscDynamics(0.25, 2.5, -1.0)), seqs["e"].next())]
+    if k % 5 == 0:
+        frames.append(encode("ObjectTrack", {"ObjectValid": 0, "ObjectRange": 0.0, "ObjectRangeRate": 0.0,
+                                             "ObjectLateral": 0.0}, seqs["o"].next()))
+        frames += [encode(name, track_signals(TRACK if slot == 1 else None, slot), seqs[name].next())
+                   for name, slot in TRACK_SLOTS.items()]
+    return frames
+
+
+def test_ecu_receives_the_planar_frames_and_sends_steering_pass_through():
+    seqs = {key: CounterSequence() for key in ("w", "d", "e", "o", *TRACK_SLOTS)}
+    signer, channel = SecOcSender(KEY), f"planar-{uuid.uuid4().hex[:8]}"
+    sent = []
+    with can.Bus(interface="virtual", channel=channel) as ecu_bus, \
+            can.Bus(interface="virtual", channel=channel) as tester:
+        node = EcuNode(ecu_bus, EcuConfig(), key=KEY)
+        for k in range(20):
+            for msg in _inputs(k, seqs):
+                tester.send(msg)
+                tester.send(signer.authenticator(msg))
+            node.step(k * 0.01)
+            while (m := tester.recv(timeout=0.0)) is not None:
+                sent.append(m)
+    latch = node._latch
+    assert latch.esc == pytest.approx(EscDynamics(0.25, 2.5, -1.0), abs=1e-4)  # yaw rate: 0.01 deg/s steps
+    assert latch.tracks[1] == TRACK and latch.tracks[0] is None and latch.tracks[7] is None
+    assert latch.steering_wheel_rad == pytest.approx(math.radians(-45.0))
+    stats = node.stats
+    # every frame accepted: 20 x (wheels, driver, ESC) + 4 x (ObjectTrack + 8 slots), all authenticated
+    assert stats["good"] == 20 * 3 + 4 * 9 == stats["authenticated"]
+    assert set(stats) <= {"good", "authenticated", "gate_interventions", "cycles"}
+    rx = Receiver(names=["SteeringOverride"], secoc=SecOcVerifier(KEY))
+    steering = [f for f in (rx.check(m) for m in sent if m.arbitration_id in (0x094, 0x095)) if f is not None]
+    assert len(steering) == 20 and rx.stats["authenticated"] == 20
+    assert all(f.signals == {"SteerActive": 0, "SteerAngleRequest": 0.0} for f in steering)
+    assert LAYOUTS["SteeringOverride"].frame_id == 0x094
