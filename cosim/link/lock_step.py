@@ -21,8 +21,7 @@ import can
 from can_dbc import AUTHENTICATORS, LAYOUTS, CounterSequence, SecOcSender, encode
 from ecu import EcuConfig
 
-from .bus_endpoint import BusEndpoint
-from .ecu_identity import IdentityCheck
+from .bus_link import BusLink
 from .ecu_link import EcuOptions, LinkReport
 from .stall import StallWatch
 
@@ -34,32 +33,21 @@ REPLY_IDS = frozenset(LAYOUTS[name].frame_id for name in _REQUESTS)
 REPLY_AUTH_IDS = REPLY_IDS | frozenset(AUTHENTICATORS[name] for name in _REQUESTS)
 
 
-class LockStepLink:
+class LockStepLink(BusLink):
     """An :class:`~cosim.link.ecu_link.EcuLink` over a bus in simulated time (process or attach)."""
 
     realtime = False
 
     def __init__(self, options: EcuOptions, config: EcuConfig, key: bytes | None = None) -> None:
-        self.options = options
-        self.endpoint = BusEndpoint(options, config, key)
+        super().__init__(options, config, key)
         self._signer = SecOcSender(key) if key is not None else None
-        self.events = self.endpoint.events
         self._status_period = config.status_period_cycles if options.mode == "process" else None
         self._clock_seq = CounterSequence()
         self._stall = StallWatch(options.reply_timeout_s, options.stall_timeout_s)
-        self._identity = IdentityCheck(config, options.ecu_settings, key)
-        self._ecu_settings: dict | None = None
-
-    # what tests and the CLI look at: the spawned process, the bus, whether the ECU was lost
-    pid = property(lambda self: self.endpoint.pid)
-    process = property(lambda self: self.endpoint.process)
-    bus = property(lambda self: self.endpoint.bus)
-    lost = property(lambda self: self.endpoint.lost)
 
     def start(self) -> None:
         """Wait for the ECU to join and to announce that it waits for a run, with settings that fit."""
-        self.endpoint.join(first_frame_joins=False, seen=self._identity.offer)
-        self._ecu_settings = self.endpoint.check_ecu(self._identity, realtime=False)
+        self._join(first_frame_joins=False)
 
     def pace(self, cycle: int) -> None:
         pass
@@ -99,6 +87,3 @@ class LockStepLink:
     def report(self) -> LinkReport:
         return LinkReport(ecu_report=self.endpoint.ecu_report, join_wait_s=self.endpoint.join_wait_s,
                           ecu_settings=self._ecu_settings)
-
-    def close(self) -> None:
-        self.endpoint.close()

@@ -16,41 +16,30 @@ import can
 
 from ecu import EcuConfig, Percentiles
 
-from .bus_endpoint import BusEndpoint
-from .ecu_identity import IdentityCheck
+from .bus_link import BusLink
 from .ecu_link import EcuOptions, LinkReport
 
 #: the last part of a wait for a deadline spent polling rather than sleeping (s): an OS wake-up can be late
 _SPIN_S = 0.002
 
 
-class RealTimeLink:
+class RealTimeLink(BusLink):
     """An :class:`~cosim.link.ecu_link.EcuLink` paced to the wall clock (process or attach)."""
 
     realtime = True
 
     def __init__(self, options: EcuOptions, config: EcuConfig, cycle_s: float, key: bytes | None = None) -> None:
-        self.options = options
-        self.endpoint = BusEndpoint(options, config, key)
-        self.events = self.endpoint.events
+        super().__init__(options, config, key)
         self._cycle_s = cycle_s
         self._lag: list[float] = []
         self._jitter: list[float] = []
         self._t0 = 0.0
         self._prev_start: float | None = None
         self._last_rx_wall = 0.0
-        self._identity = IdentityCheck(config, options.ecu_settings, key)
-        self._ecu_settings: dict | None = None
-
-    pid = property(lambda self: self.endpoint.pid)
-    process = property(lambda self: self.endpoint.process)
-    bus = property(lambda self: self.endpoint.bus)
-    lost = property(lambda self: self.endpoint.lost)
 
     def start(self) -> None:
         """Wait for the ECU's first frame and its announcement, with settings that fit; then start the clock."""
-        self.endpoint.join(first_frame_joins=True, seen=self._identity.offer)
-        self._ecu_settings = self.endpoint.check_ecu(self._identity, realtime=True)
+        self._join(first_frame_joins=True)
         self._t0 = time.perf_counter()
         self._last_rx_wall = time.monotonic()
 
@@ -90,6 +79,3 @@ class RealTimeLink:
             timing = {"lag_p50_s": lag.p50, "lag_p99_s": lag.p99, "lag_max_s": lag.max,
                       "jitter_p50_s": jit.p50, "jitter_p99_s": jit.p99, "jitter_max_s": jit.max}
         return LinkReport(timing, self.endpoint.ecu_report, self.endpoint.join_wait_s, self._ecu_settings)
-
-    def close(self) -> None:
-        self.endpoint.close()
