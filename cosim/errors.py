@@ -10,6 +10,8 @@
      |    +-- MappingError (PlantError, KeyError)   a mapped name the FMU lacks / wrong causality
      |    +-- FmiStepError (PlantError)             FMU returned an error mid-run (time + status)
      +-- EcuStallError (CosimError, RuntimeError)  lock-step: the ECU did not answer within the stall limit
+     +-- EcuSettingsError (CosimError, ValueError) an attached ECU announces other settings than the run's
+                                                    [ecu], or none (cosim.link.ecu_identity)
     RunInterrupted (KeyboardInterrupt)             SIGINT or SIGTERM asked the run to stop
 """
 
