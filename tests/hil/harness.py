@@ -35,7 +35,8 @@ from can_dbc import COUNTER_MODULUS, Receiver, encode
 from can_dbc.contract import timeout_s
 from ecu import ECU_CYCLE_S, EcuConfig, EcuNode
 
-OUTPUTS = ("SafetyOverride", "EcuStatus", "EcuIdentity")  # EcuIdentity: from a standalone ECU (crd ecu)
+#: what the ECU sends (EcuIdentity: from a standalone ECU, crd ecu)
+OUTPUTS = ("SafetyOverride", "SteeringOverride", "EcuStatus", "EcuIdentity")
 Signals = Mapping[str, float]
 
 
