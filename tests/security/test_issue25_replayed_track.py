@@ -66,7 +66,8 @@ class Bench:
         right after it); returns (the genuine ObjectTrack frames sent, or [], and the outputs)."""
         t_s = self.k * CYCLE_S
         sent = self.frames("WheelSpeeds", {f"WheelSpeed{w}": SPEED_KMH for w in ("FL", "FR", "RL", "RR")})
-        sent += self.frames("DriverInput", {"AccelPedal": 20.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0})
+        sent += self.frames("DriverInput", {"AccelPedal": 20.0, "BrakePedal": 0.0, "SteeringWheelAngle": 0.0,
+                                            "SteeringWheelRate": 0.0})
         fresh = self.frames("ObjectTrack", track) if self.k % TRACK_EVERY == 0 else []
         for msg in sent + fresh + (replay(fresh) if fresh else []):
             self.node.ingest(msg, t_s)
