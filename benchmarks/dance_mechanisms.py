@@ -17,7 +17,7 @@ import can_dbc.receiver as receiver
 import cosim.loop.master as master
 from can_dbc import ECU_CYCLE_S, LAYOUTS
 from cosim.world.driver_models import Pedals
-from cosim.world.gateway import Actuation, Gateway
+from cosim.world.gateway import Gateway
 from cosim.world.radar_model import RadarModel, Track
 
 #: the plant's brake release in the ``release`` candidates: one 10-20 ms CAN/ESC cycle of
@@ -34,8 +34,8 @@ def held_gateway(n_cycles: int) -> type[Gateway]:
             super().__init__(*args, **kwargs)
             self._k, self._held = 0, None
 
-        def actuation(self, pedals, t_s):
-            fresh = super().actuation(pedals, t_s)
+        def actuation(self, pedals, t_s, steering_wheel_angle_rad=0.0):
+            fresh = super().actuation(pedals, t_s, steering_wheel_angle_rad)
             if self._k % n_cycles == 0 or self._held is None:
                 self._held = fresh
             self._k += 1
@@ -52,8 +52,8 @@ def delayed_gateway(n_cycles: int) -> type[Gateway]:
             super().__init__(*args, **kwargs)
             self._line: deque = deque()
 
-        def actuation(self, pedals, t_s):
-            self._line.append(super().actuation(pedals, t_s))
+        def actuation(self, pedals, t_s, steering_wheel_angle_rad=0.0):
+            self._line.append(super().actuation(pedals, t_s, steering_wheel_angle_rad))
             return self._line.popleft() if len(self._line) > n_cycles else self._line[0]
 
     return DelayedGateway
@@ -69,10 +69,10 @@ def jerk_limited_gateway(jerk_mps3: float, full_decel_mps2: float = 12.0) -> typ
             super().__init__(*args, **kwargs)
             self._brake = 0.0
 
-        def actuation(self, pedals, t_s):
-            fresh = super().actuation(pedals, t_s)
+        def actuation(self, pedals, t_s, steering_wheel_angle_rad=0.0):
+            fresh = super().actuation(pedals, t_s, steering_wheel_angle_rad)
             self._brake = min(fresh.brake, self._brake + step)
-            return Actuation(fresh.throttle, self._brake)
+            return fresh._replace(brake=self._brake)
 
     return JerkLimitedGateway
 
