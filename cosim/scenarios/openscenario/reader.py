@@ -1,7 +1,7 @@
 """An OpenSCENARIO 1.x file (with its OpenDRIVE road) as a crd :class:`~cosim.scenarios.config.Scenario`.
 
 The file is read strictly (:mod:`.xml_source`): what crd's 1-D world can
-follow maps onto the scenario keys (docs/openscenario.md); anything else is a
+follow maps onto the scenario keys (a curved road: the planar ``[road]``, :mod:`.planar_road`) (docs/openscenario.md); anything else is a
 one-line error naming the file, the line and the element. The mapped keys go
 through the same loader as a TOML file (:func:`cosim.scenarios.loader.scenario_from_dict`),
 so ranges and cross-key rules hold the same; a loader error names the property
@@ -20,6 +20,7 @@ from .actions import LaneChange, SpeedChange, Teleport
 from .entities import Body, read_entities
 from .frame import Frame
 from .opendrive import Road, read_opendrive
+from .planar_road import ego_lane, road_keys
 from .properties import nested
 from .profiles import Actor, brake, lateral, trigger
 from .story import Storyboard, read_storyboard
@@ -147,6 +148,7 @@ class _Build:
                 origin = self.origins[next(p for p in self.origins if p.split(".")[0] == section)]
                 raise fail(origin, f"property crd.{section}.*: expected a section of {', '.join(EGO_SECTIONS)}")
         self._ego_keys(data, ego_speed)
+        self._road_keys(data, frame, ego_start)
         objs = [self.object_keys(a, actors) for a in actors.values()]
         if len(objs) == 1:
             data["object"] = objs[0]
@@ -167,6 +169,20 @@ class _Build:
         if self.ego.driver is not None:
             driver = nested(self.ego.driver, prefix="", origins=self.origins)
         data["driver"] = driver
+
+
+    def _road_keys(self, data: dict[str, Any], frame: Frame, ego_start: Teleport) -> None:
+        """A curved road makes the scenario planar: its ``[road]``, and the ego keeping its lane."""
+        if all(r.straight for r in self.roads.values()):
+            return
+        where = child(child(self.root, "RoadNetwork"), "LogicFile")
+        if len(self.roads) != 1:
+            raise unsupported(where, f"a curved road in a network of {len(self.roads)} roads: crd's [road] is one")
+        road = next(iter(self.roads.values()))
+        data["road"] = road_keys(road, frame, where)
+        if "steering" not in data["driver"]:
+            lane = ego_lane(road, ego_start.pose, ego_start.elem)
+            data["driver"]["steering"] = {"model": "path_following", "lane": lane}
 
 
 def _located(exc: ConfigError, build: _Build) -> XmlScenarioError:
