@@ -42,8 +42,8 @@ XOSC_CASES = {  # element class: (xpath, new element, replace?, the element name
                '</BoundingBox><Properties/></MiscObject></ScenarioObject>', False, "MiscObject"),
     "position": ("//Private[@entityRef='Ego']//Position/WorldPosition", '<RelativeObjectPosition entityRef="x" '
                  'dx="1" dy="0"/>', True, "RelativeObjectPosition"),
-    "private action": ("//Event//PrivateAction/LongitudinalAction", '<RoutingAction><FollowTrajectoryAction/>'
-                       '</RoutingAction>', True, "FollowTrajectoryAction"),
+    "private action": ("//Event//PrivateAction/LongitudinalAction", '<RoutingAction><AssignRouteAction/>'
+                       '</RoutingAction>', True, "AssignRouteAction"),
     "lateral action": ("//Event//PrivateAction/LongitudinalAction", '<LateralAction><LaneOffsetAction continuous='
                        '"false"/></LateralAction>', True, "LaneOffsetAction"),
     "global action": ("//Init/Actions", '<GlobalAction><EnvironmentAction/></GlobalAction>', False, "GlobalAction"),
