@@ -75,7 +75,7 @@ def _start(body: Body, init: list) -> tuple[Teleport, float]:
     if len(teleports) != 1:
         raise fail(where, f"entity {body.name!r}: expected one TeleportAction in Init, got {len(teleports)}")
     for a in init:
-        if isinstance(a, LaneChange) or len(speeds) > 1:
+        if not isinstance(a, (Teleport, SpeedChange)) or len(speeds) > 1:
             raise unsupported(a.elem, "in Init: crd reads one teleport and one speed per entity")
     if speeds and speeds[0].dynamics.shape != "step":
         raise unsupported(speeds[0].dynamics.elem, "a speed transition in Init: entities start at their speed (step)")
