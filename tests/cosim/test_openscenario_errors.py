@@ -42,8 +42,8 @@ XOSC_CASES = {  # element class: (xpath, new element, replace?, the element name
                '</BoundingBox><Properties/></MiscObject></ScenarioObject>', False, "MiscObject"),
     "position": ("//Private[@entityRef='Ego']//Position/WorldPosition", '<RelativeObjectPosition entityRef="x" '
                  'dx="1" dy="0"/>', True, "RelativeObjectPosition"),
-    "private action": ("//Event//PrivateAction/LongitudinalAction", '<RoutingAction><FollowTrajectoryAction/>'
-                       '</RoutingAction>', True, "FollowTrajectoryAction"),
+    "private action": ("//Event//PrivateAction/LongitudinalAction", '<RoutingAction><AssignRouteAction/>'
+                       '</RoutingAction>', True, "AssignRouteAction"),
     "lateral action": ("//Event//PrivateAction/LongitudinalAction", '<LateralAction><LaneOffsetAction continuous='
                        '"false"/></LateralAction>', True, "LaneOffsetAction"),
     "global action": ("//Init/Actions", '<GlobalAction><EnvironmentAction/></GlobalAction>', False, "GlobalAction"),
@@ -74,8 +74,11 @@ def test_unsupported_openscenario_element(ccrb, case: str) -> None:
 
 
 XODR_CASES = {
-    "arc": ("//geometry/line", '<arc curvature="0.01"/>', True, "arc"),
-    "spiral": ("//geometry/line", '<spiral curvStart="0" curvEnd="0.01"/>', True, "spiral"),
+    "poly3": ("//geometry/line", '<poly3 a="0" b="0" c="0.001" d="0"/>', True, "poly3"),
+    "paramPoly3": ("//geometry/line", '<paramPoly3 aU="0" bU="1" cU="0" dU="0" aV="0" bV="0" cV="0.01" dV="0"/>',
+                   True, "paramPoly3"),
+    "kink": ("//planView", '<geometry s="1000" x="0" y="5" hdg="0.3" length="10"><line/></geometry>', False,
+             "geometry"),
     "lane width polynomial": ("//lane[@id='-1']/width", '<width sOffset="0" a="3.5" b="0.01" c="0" d="0"/>', True,
                               "width"),
     "junction": ("/OpenDRIVE", '<junction id="7" name="j"/>', False, "junction"),

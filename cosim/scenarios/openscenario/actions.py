@@ -4,8 +4,8 @@
 ``<AbsoluteTargetSpeed>`` and ``<SpeedActionDynamics>`` (any shape and
 dimension here; :mod:`.mapping` decides what crd's profiles can follow), and
 ``<LaneChangeAction>`` to an absolute or relative target lane. Everything else
-under ``<PrivateAction>`` is not supported yet: ``<FollowTrajectoryAction>``
-and the other routing actions need the planar world.
+``<FollowTrajectoryAction>`` with a polyline (:mod:`.trajectory`). Everything else
+under ``<PrivateAction>`` is not supported yet, the other routing actions included.
 """
 
 from __future__ import annotations
@@ -13,8 +13,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Mapping
 
-from .opendrive import PLANAR, Road
+from .opendrive import Road
 from .positions import Pose, read_position
+from .trajectory import FollowTrajectory, read_follow_trajectory
 from .xml_source import Element, attr, child, choice, dispatch, number, one_child, only, unsupported
 
 SHAPES = ("step", "linear", "cubic", "sinusoidal")
@@ -95,8 +96,16 @@ def _teleport(elem: Element, roads: Mapping[str, Road]) -> Teleport:
     return Teleport(read_position(child(elem, "Position"), roads), elem)
 
 
-def _routing(elem: Element, roads: Mapping[str, Road]) -> None:  # noqa: ARG001
-    raise unsupported(one_child(elem), PLANAR)
+def _route(elem: Element, roads: Mapping[str, Road]) -> None:  # noqa: ARG001 - one handler signature
+    raise unsupported(elem, "crd's objects follow trajectories (<FollowTrajectoryAction>), not routes")
+
+
+ROUTING = {"FollowTrajectoryAction": read_follow_trajectory, "AssignRouteAction": _route,
+           "AcquirePositionAction": _route}
+
+
+def _routing(elem: Element, roads: Mapping[str, Road]) -> FollowTrajectory:
+    return dispatch(one_child(elem), ROUTING, roads)
 
 
 PRIVATE_ACTIONS = {"TeleportAction": _teleport, "LongitudinalAction": _longitudinal, "LateralAction": _lateral,

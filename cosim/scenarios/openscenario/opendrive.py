@@ -1,16 +1,15 @@
-"""The OpenDRIVE subset crd reads: straight reference lines and lanes of constant width.
+"""The OpenDRIVE subset crd reads: reference lines of lines, arcs and spirals, and lanes of constant width.
 
-A road's reference line is one or more ``<line>`` geometries on one heading;
-``<arc>``, ``<spiral>``, ``<poly3>`` and ``<paramPoly3>`` need the planar world
-(issue 21) and are refused until it lands. Lanes: one ``<laneSection>``, each
-lane one ``<width>`` with only the constant term ``a`` (``b = c = d = 0``), and a
-constant ``<laneOffset>``. Road marks and road types are accepted and have no
-effect (crd's radar sees no paint). Anything else is a one-line error naming
-the file, the line and the element. Junctions are refused.
+A road's reference line is one or more ``<line>``, ``<arc>`` or ``<spiral>`` geometries
+(:mod:`.plan_view`); ``<poly3>`` and ``<paramPoly3>`` are refused. Lanes: one ``<laneSection>``,
+each lane one ``<width>`` with only the constant term ``a`` (``b = c = d = 0``), and a constant
+``<laneOffset>``. Road marks and road types are accepted and have no effect (crd's radar sees no
+paint). Anything else is a one-line error naming the file, the line and the element. Junctions are
+refused.
 
 Road coordinates (ASAM OpenDRIVE 1.7, 7.4): a point at ``(s, t)`` lies at
-``(x0, y0) + s (cos hdg, sin hdg) + t (-sin hdg, cos hdg)``, ``t`` positive to
-the left. The centre of lane ``k < 0`` (right of the centre lane) is at
+``p(s) + t (-sin h(s), cos h(s))`` with ``p(s)`` and ``h(s)`` the reference line's point and heading
+at ``s``, ``t`` positive to the left. The centre of lane ``k < 0`` (right of the centre lane) is at
 ``t = offset - sum(w_-1 .. w_k+1) - w_k / 2``; of ``k > 0`` at
 ``t = offset + sum(w_1 .. w_k-1) + w_k / 2``.
 """
@@ -20,33 +19,50 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
-from .xml_source import Element, child, children, dispatch, fail, number, one_child, only, parse_file, unsupported
+from ...world.reference_line import PlanView
+from .plan_view import is_straight, read_plan_view
+from .xml_source import Element, child, children, dispatch, fail, number, only, parse_file, unsupported
 
-HEADING_TOL_RAD = 1e-9
-PLANAR = "needs the planar world (issue 21), which lands later; crd's road is straight for now"
+PLANAR = "needs an object moving in the plane: crd's 1-D objects move along and across the ego's start heading"
 
 
 @dataclass(frozen=True)
 class Road:
-    """One straight road: its reference line and its lanes' centre offsets ``t`` (m)."""
+    """One road: its reference line, its pieces as ``[[road.geometry]]`` entries, and its lanes (m)."""
 
     road_id: str
-    x0_m: float
-    y0_m: float
-    hdg_rad: float
+    plan: PlanView
+    geometry: tuple[dict[str, Any], ...]
     length_m: float
     lane_centre_t_m: dict[int, float] = field(default_factory=dict)
     lane_width_m: dict[int, float] = field(default_factory=dict)
+    lane_offset_m: float = 0.0
+
+    @property
+    def straight(self) -> bool:
+        """Lines on one heading: the road crd's 1-D world drives."""
+        return is_straight(self.plan)
+
+    @property
+    def hdg_rad(self) -> float:
+        """The reference line's heading at its start."""
+        return self.plan.placed[0].heading_rad
+
+    def heading_at(self, s_m: float) -> float:
+        """The reference line's heading at ``s``."""
+        return self.plan.pose_at(s_m)[2]
 
     def point(self, s_m: float, t_m: float) -> tuple[float, float]:
         """World ``(x, y)`` of road coordinates ``(s, t)``."""
-        c, s = math.cos(self.hdg_rad), math.sin(self.hdg_rad)
-        return self.x0_m + s_m * c - t_m * s, self.y0_m + s_m * s + t_m * c
+        x, y, h = self.plan.pose_at(s_m)
+        return x - t_m * math.sin(h), y + t_m * math.cos(h)
 
     def offset_of(self, x_m: float, y_m: float) -> float:
-        """The road offset ``t`` of a world point."""
-        return -(x_m - self.x0_m) * math.sin(self.hdg_rad) + (y_m - self.y0_m) * math.cos(self.hdg_rad)
+        """The road offset ``t`` of a world point (a straight road's)."""
+        x0, y0, h = self.plan.pose_at(0.0)
+        return -(x_m - x0) * math.sin(h) + (y_m - y0) * math.cos(h)
 
     def lane_at(self, t_m: float) -> int | None:
         """The lane whose span holds the offset ``t`` (None: off the lanes)."""
@@ -54,31 +70,6 @@ class Road:
             if abs(t_m - centre) <= self.lane_width_m[lane] / 2:
                 return lane
         return None
-
-
-def _line(elem: Element) -> None:
-    only(elem, ())
-
-
-def _curved(elem: Element) -> None:
-    raise unsupported(elem, PLANAR)
-
-
-GEOMETRIES = {"line": _line, "arc": _curved, "spiral": _curved, "poly3": _curved, "paramPoly3": _curved}
-
-
-def _plan_view(plan: Element) -> tuple[float, float, float]:
-    """Start point and heading of a straight reference line of one or more collinear lines."""
-    geoms = only(plan, ("geometry",))
-    if not geoms:
-        raise fail(plan, "expected at least one <geometry>")
-    first = geoms[0]
-    x0, y0, hdg = number(first, "x"), number(first, "y"), number(first, "hdg")
-    for g in geoms:
-        dispatch(one_child(g), GEOMETRIES)
-        if abs(number(g, "hdg") - hdg) > HEADING_TOL_RAD:
-            raise unsupported(g, f"a change of heading along the road; {PLANAR}")
-    return x0, y0, hdg
 
 
 def _polynomial_constant(elem: Element, name: str = "a") -> float:
@@ -110,7 +101,7 @@ def _side(side: Element | None, sign: int) -> dict[int, float]:
     return widths
 
 
-def _lanes(lanes: Element) -> tuple[dict[int, float], dict[int, float]]:
+def _lanes(lanes: Element) -> tuple[dict[int, float], dict[int, float], float]:
     kids = only(lanes, ("laneOffset", "laneSection"))
     offsets = [k for k in kids if k.tag == "laneOffset"]
     sections = [k for k in kids if k.tag == "laneSection"]
@@ -125,7 +116,7 @@ def _lanes(lanes: Element) -> tuple[dict[int, float], dict[int, float]]:
         sign = 1 if lane > 0 else -1
         inner = sum(widths.get(sign * k, 0.0) for k in range(1, abs(lane)))
         centres[lane] = offset + sign * (inner + w / 2)
-    return centres, widths
+    return centres, widths, offset
 
 
 def _flat(elem: Element) -> None:
@@ -142,7 +133,7 @@ def _empty_link(elem: Element) -> None:
             raise unsupported(k)
 
 
-ROAD_PARTS = {"link": _empty_link, "type": lambda e: None, "planView": _plan_view, "elevationProfile": _flat,
+ROAD_PARTS = {"link": _empty_link, "type": lambda e: None, "planView": read_plan_view, "elevationProfile": _flat,
               "lateralProfile": _flat, "lanes": _lanes, "userData": lambda e: None}
 
 
@@ -152,8 +143,11 @@ def _road(elem: Element) -> Road:
     parts = {k.tag: dispatch(k, ROAD_PARTS) for k in children(elem)}
     if "planView" not in parts or "lanes" not in parts:
         raise fail(elem, "expected <planView> and <lanes>")
-    (x0, y0, hdg), (centres, widths) = parts["planView"], parts["lanes"]
-    return Road(elem.get("id", ""), x0, y0, hdg, number(elem, "length"), centres, widths)
+    (plan, geometry), (centres, widths, offset) = parts["planView"], parts["lanes"]
+    if offset != 0.0 and not is_straight(plan):
+        raise unsupported(child(child(elem, "lanes"), "laneOffset"), "a lane offset on a curved road: crd's lanes "
+                                                                       "lie beside the reference line")
+    return Road(elem.get("id", ""), plan, geometry, number(elem, "length"), centres, widths, offset)
 
 
 def read_opendrive(path: Path) -> dict[str, Road]:

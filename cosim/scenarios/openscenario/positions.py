@@ -3,7 +3,7 @@
 * ``<WorldPosition x y z h p r>``: ``z`` is read and has no effect (crd's world
   is level); ``p`` and ``r`` must be 0.
 * ``<RoadPosition roadId s t>`` and ``<LanePosition roadId laneId s offset>``:
-  through the road's reference line (:meth:`~.opendrive.Road.point`); a lane
+  through the road's reference line (:meth:`~.opendrive.Road.point`; the heading there); a lane
   position is at the lane's centre plus ``offset`` (left positive). Heading:
   an ``<Orientation type="absolute">`` gives it, ``type="relative"`` adds its
   ``h`` to the reference line's heading; without one, the heading is the lane's
@@ -51,7 +51,7 @@ def _road_of(elem: Element, roads: Mapping[str, Road]) -> Road:
     return roads[road_id]
 
 
-def _heading(elem: Element, road: Road, default_rad: float) -> float:
+def _heading(elem: Element, road_hdg_rad: float, default_rad: float) -> float:
     only(elem, ("Orientation",))
     orient = child(elem, "Orientation", False)
     if orient is None:
@@ -61,13 +61,14 @@ def _heading(elem: Element, road: Road, default_rad: float) -> float:
     if kind not in ("relative", "absolute"):
         raise fail(orient, f"type: expected relative or absolute, got {kind!r}")
     h = number(orient, "h", 0.0)
-    return h if kind == "absolute" else road.hdg_rad + h
+    return h if kind == "absolute" else road_hdg_rad + h
 
 
 def _road_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
     road = _road_of(elem, roads)
-    x, y = road.point(number(elem, "s"), number(elem, "t"))
-    return Pose(x, y, _heading(elem, road, road.hdg_rad))
+    s_m = number(elem, "s")
+    x, y = road.point(s_m, number(elem, "t"))
+    return Pose(x, y, _heading(elem, road.heading_at(s_m), road.heading_at(s_m)))
 
 
 def _lane_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
@@ -75,9 +76,10 @@ def _lane_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
     lane = int(number(elem, "laneId"))
     if lane not in road.lane_centre_t_m:
         raise fail(elem, f"lane {lane} is not on road {road.road_id!r} (lanes: {sorted(road.lane_centre_t_m)})")
-    x, y = road.point(number(elem, "s"), road.lane_centre_t_m[lane] + number(elem, "offset", 0.0))
-    along = road.hdg_rad if lane < 0 else road.hdg_rad + math.pi
-    return Pose(x, y, _heading(elem, road, along))
+    s_m = number(elem, "s")
+    x, y = road.point(s_m, road.lane_centre_t_m[lane] + number(elem, "offset", 0.0))
+    hdg = road.heading_at(s_m)
+    return Pose(x, y, _heading(elem, hdg, hdg if lane < 0 else hdg + math.pi))
 
 
 POSITIONS = {"WorldPosition": _world, "RoadPosition": _road_position, "LanePosition": _lane_position}

@@ -140,6 +140,9 @@ def lateral(action: LaneChange, actor: Actor, roads: Mapping[str, Road], actors:
     if len(roads) != 1:
         raise unsupported(action.elem, f"a lane change on a network of {len(roads)} roads: crd reads one road")
     road = next(iter(roads.values()))
+    if not road.straight:
+        raise unsupported(action.elem, "a lane change on a curved road: crd's 1-D objects move across the ego's "
+                                       "start heading")
     if actor.frame.direction(road.hdg_rad, action.elem) != 1:
         raise unsupported(action.elem, "a lane change with the ego against the road's reference line")
     x, y = road.point(0.0, _target_t(action, road, actors))

@@ -1,7 +1,7 @@
 """An OpenSCENARIO 1.x file (with its OpenDRIVE road) as a crd :class:`~cosim.scenarios.config.Scenario`.
 
 The file is read strictly (:mod:`.xml_source`): what crd's 1-D world can
-follow maps onto the scenario keys (docs/openscenario.md); anything else is a
+follow maps onto the scenario keys (a curved road: the planar ``[road]``, :mod:`.planar_road`) (docs/openscenario.md); anything else is a
 one-line error naming the file, the line and the element. The mapped keys go
 through the same loader as a TOML file (:func:`cosim.scenarios.loader.scenario_from_dict`),
 so ranges and cross-key rules hold the same; a loader error names the property
@@ -10,6 +10,7 @@ or element it came from.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -17,15 +18,19 @@ from ...errors import ConfigError
 from ..config import Scenario
 from ..loader import scenario_from_dict
 from .actions import LaneChange, SpeedChange, Teleport
+from .conditions import AtTime
 from .entities import Body, read_entities
 from .frame import Frame
 from .opendrive import Road, read_opendrive
+from .planar_road import ego_lane, road_keys
 from .properties import nested
 from .profiles import Actor, brake, lateral, trigger
 from .story import Storyboard, read_storyboard
+from .trajectory import FollowTrajectory, centre_path
 from .xml_source import Element, XmlScenarioError, attr, child, children, fail, number, only, parse_file, unsupported
 
 EGO_NAMES = ("ego", "hero")
+VERTEX_TOL_M = 1e-3
 TOP = ("FileHeader", "ParameterDeclarations", "CatalogLocations", "RoadNetwork", "Entities", "Storyboard")
 #: the sections crd reads from the ego's crd.* properties ([driver] comes from its controller)
 EGO_SECTIONS = ("scenario", "plant", "radar", "gateway", "ecu", "checks", "end")
@@ -70,7 +75,7 @@ def _start(body: Body, init: list) -> tuple[Teleport, float]:
     if len(teleports) != 1:
         raise fail(where, f"entity {body.name!r}: expected one TeleportAction in Init, got {len(teleports)}")
     for a in init:
-        if isinstance(a, LaneChange) or len(speeds) > 1:
+        if not isinstance(a, (Teleport, SpeedChange)) or len(speeds) > 1:
             raise unsupported(a.elem, "in Init: crd reads one teleport and one speed per entity")
     if speeds and speeds[0].dynamics.shape != "step":
         raise unsupported(speeds[0].dynamics.elem, "a speed transition in Init: entities start at their speed (step)")
@@ -97,7 +102,8 @@ class _Build:
             if body is self.ego:
                 continue
             teleport, speed = _start(body, self.board.init.get(name, []))
-            direction = frame.direction(teleport.pose.h_rad, teleport.elem)
+            follows = any(e.actor == name and isinstance(e.action, FollowTrajectory) for e in self.board.events)
+            direction = 1 if follows else frame.direction(teleport.pose.h_rad, teleport.elem)
             out[name] = Actor(body, teleport.pose, direction, direction * speed, frame, ego_speed)
         unknown = set(self.board.init) - set(self.bodies)
         if unknown:
@@ -120,13 +126,18 @@ class _Build:
 
     def _event_keys(self, event, actor: Actor, actors: Mapping[str, Actor], keys: dict, done: set) -> None:
         action = event.action
-        kind = {SpeedChange: "brake", LaneChange: "lateral"}.get(type(action))
+        kind = {SpeedChange: "brake", LaneChange: "lateral", FollowTrajectory: "trajectory"}.get(type(action))
         if kind is None:
             raise unsupported(action.elem, "in the story: crd's objects start where Init puts them")
-        if kind in done:
+        if kind in done or (done and "trajectory" in done | {kind}):
             raise unsupported(action.elem, f"a second {type(action).__name__} for {actor.body.name!r}: crd's objects "
-                                           f"have one {kind} profile")
+                                           f"have one {kind} profile, or follow one trajectory and nothing else")
         done.add(kind)
+        if kind == "trajectory":
+            for key in ("position_m", "speed_mps", "lateral_m"):
+                del keys[key]
+            keys["trajectory"] = _trajectory_keys(action, actor, event.start)
+            return
         keys.update(brake(action, actor) if kind == "brake" else lateral(action, actor, self.roads, actors))
         at, value = trigger(event.start, actor, self.ego.name)
         keys[f"{kind}_{at}"] = value
@@ -147,6 +158,7 @@ class _Build:
                 origin = self.origins[next(p for p in self.origins if p.split(".")[0] == section)]
                 raise fail(origin, f"property crd.{section}.*: expected a section of {', '.join(EGO_SECTIONS)}")
         self._ego_keys(data, ego_speed)
+        self._road_keys(data, frame, ego_start)
         objs = [self.object_keys(a, actors) for a in actors.values()]
         if len(objs) == 1:
             data["object"] = objs[0]
@@ -167,6 +179,35 @@ class _Build:
         if self.ego.driver is not None:
             driver = nested(self.ego.driver, prefix="", origins=self.origins)
         data["driver"] = driver
+
+
+    def _road_keys(self, data: dict[str, Any], frame: Frame, ego_start: Teleport) -> None:
+        """A curved road makes the scenario planar: its ``[road]``, and the ego keeping its lane."""
+        if all(r.straight for r in self.roads.values()):
+            return
+        where = child(child(self.root, "RoadNetwork"), "LogicFile")
+        if len(self.roads) != 1:
+            raise unsupported(where, f"a curved road in a network of {len(self.roads)} roads: crd's [road] is one")
+        road = next(iter(self.roads.values()))
+        data["road"] = road_keys(road, frame, where)
+        if "steering" not in data["driver"]:
+            lane = ego_lane(road, ego_start.pose, ego_start.elem)
+            data["driver"]["steering"] = {"model": "path_following", "lane": lane}
+
+
+def _trajectory_keys(action: FollowTrajectory, actor: Actor, start: Any) -> dict[str, Any]:
+    """``[objects.trajectory]``: the box centre's path in crd's frame, at the object's Init speed."""
+    x0, y0 = action.vertices[0]
+    if math.hypot(actor.pose.x_m - x0, actor.pose.y_m - y0) > VERTEX_TOL_M:
+        raise unsupported(action.elem, f"{actor.body.name!r} starts off its trajectory's first vertex: crd's "
+                                       "objects stand at their path's start until they move")
+    if not isinstance(start, AtTime):
+        raise unsupported(start.elem, "a trajectory started by this condition: crd starts one by simulation time")
+    frame, body = actor.frame, actor.body
+    path = [[frame.along(x, y) - frame.ego_front_m, frame.across(x, y) - frame.ego.centre_y_m]
+            for x, y in centre_path(action.vertices, body.centre_x_m, body.centre_y_m)]
+    return {"waypoints": path, "speeds": [[0.0, abs(actor.speed_mps)]], "speeds_over": "distance",
+            "start": "time", "start_value": start.t_s}
 
 
 def _located(exc: ConfigError, build: _Build) -> XmlScenarioError:
