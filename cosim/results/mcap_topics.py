@@ -149,9 +149,9 @@ def _decoded(schemas: Schemas, message: Any, entries: list) -> Callable[[], Iter
     return messages
 
 
-def _optional(row: tuple, column: str) -> float:
-    """A column a planar world adds (``y_m``, ``yaw_rad``); 0 while the time series lacks it."""
-    return float(row[TIMESERIES_COLUMNS.index(column)]) if column in TIMESERIES_COLUMNS else 0.0
+def _pose_index(columns: tuple[str, ...], column: str) -> int | None:
+    """Where a planar run's pose column (``y_m``, ``yaw_rad``) stands; None in a 1-D run's time series."""
+    return columns.index(column) if column in columns else None
 
 
 def ego_states(run: RunFiles) -> list[EgoState]:
@@ -163,8 +163,9 @@ def ego_states(run: RunFiles) -> list[EgoState]:
     status_id = DATABASE.get_message_by_name(STOPPING[0]).frame_id
     status = [(t, float(signals[STOPPING[1]])) for t, _, signals in run.decoded.get(status_id, [])]
     x, v, mode = (TIMESERIES_COLUMNS.index(c) for c in ("position_m", "speed_mps", "ecu_mode"))
-    return [EgoState(t, row[0], row[x], _optional(row, "y_m"), _optional(row, "yaw_rad"), row[v], row[mode], d)
-            for t, row, d in zip(times, rows, stopping_distances(times, status))]
+    y, yaw = (_pose_index(run.record.columns, c) for c in ("y_m", "yaw_rad"))
+    return [EgoState(t, row[0], row[x], 0.0 if y is None else row[y], 0.0 if yaw is None else row[yaw], row[v],
+                     row[mode], d) for t, row, d in zip(times, rows, stopping_distances(times, status))]
 
 
 def world_topics(schemas: Schemas, run: RunFiles) -> list[Topic]:

@@ -44,18 +44,17 @@ class RunDir:
         raise ConfigError(f"{self.path}: {wanted} (it holds {', '.join(held) or 'none'})")
 
 
-def _row(values: dict[str, str]) -> tuple:
-    return tuple(values[c] if c == "ecu_mode" else float(values[c]) for c in TIMESERIES_COLUMNS)
-
-
-def _read_rows(series: Path) -> list[tuple]:
+def _read_rows(series: Path) -> tuple[tuple[str, ...], list[tuple]]:
+    """The file's columns (:data:`TIMESERIES_COLUMNS`, then a planar run's pose columns) and its rows."""
     with open(series, newline="") as handle:
         reader = csv.DictReader(handle)
-        missing = [c for c in TIMESERIES_COLUMNS if c not in (reader.fieldnames or ())]
+        columns = tuple(reader.fieldnames or ())
+        missing = [c for c in TIMESERIES_COLUMNS if c not in columns]
         if missing:
             raise ConfigError(f"{series}: expected the columns {', '.join(TIMESERIES_COLUMNS)}; "
                               f"missing {', '.join(missing)}")
-        return [_row(values) for values in reader]
+        return columns, [tuple(values[c] if c == "ecu_mode" else float(values[c]) for c in columns)
+                         for values in reader]
 
 
 def _record(run_dir: Path, entry: dict) -> RunRecord:
@@ -64,7 +63,7 @@ def _record(run_dir: Path, entry: dict) -> RunRecord:
     record = RunRecord(strategy, metrics, error=entry.get("error"))
     series = run_dir / strategy / "timeseries.csv"
     if series.is_file():
-        record.rows = _read_rows(series)
+        record.columns, record.rows = _read_rows(series)
     events = run_dir / strategy / "events.json"
     if events.is_file():
         record.events = [RunEvent(e["t_s"], e["kind"], e["detail"])

@@ -49,13 +49,18 @@ def with_target_boxes(scenario: Scenario, data: Mapping[str, Any]) -> Scenario:
     return dataclasses.replace(scenario, object=boxed(scenario.object, tables.get("object", {})))
 
 
+def replaced_keys(placement: str) -> tuple[str, ...]:
+    """The object keys that ``placement`` (one of :data:`PLACEMENTS`) replaces: given with it, an error."""
+    return ("position_m", "lateral_m") if placement in ("pose", "road_pose") else MOTION_KEYS
+
+
 def _check_placement(where: str, table: Mapping[str, Any]) -> None:
     given = [p for p in PLACEMENTS if p in table]
     if len(given) > 1:
         raise SettingError(f"{where}.{given[1]}", f"expected one of {', '.join(PLACEMENTS)}, got {' and '.join(given)}")
     if not given:
         return
-    taken = ("position_m", "lateral_m") if given[0] in ("pose", "road_pose") else MOTION_KEYS
+    taken = replaced_keys(given[0])
     clash = next((k for k in taken if k in table), None)
     if clash is not None:
         raise SettingError(f"{where}.{clash}", f"not used with {given[0]}; expected one placement of the object")

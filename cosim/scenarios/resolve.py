@@ -15,6 +15,7 @@ from typing import Any, Mapping
 from ecu.settings import keys
 
 from .config import Scenario
+from .planar_rules import PLACEMENTS, replaced_keys
 from .toml_writer import dumps
 
 
@@ -22,9 +23,19 @@ def scenario_to_dict(scenario: Scenario, strategy: str | None = None) -> dict[st
     """Plain nested dict of every resolved value (defaults included)."""
     out = plain(scenario)
     out.pop("object" if out["objects"] else "objects")  # [[objects]] replaces [object]
+    for table in out.get("objects") or [out.get("object") or {}]:
+        _drop_replaced(table)
     if strategy is not None:
         out["ecu"]["strategy"] = strategy
     return out
+
+
+def _drop_replaced(table: dict[str, Any]) -> None:
+    """An object placed by a planar placement keeps only its keys: the file reads back (the loader refuses
+    a placement given with the keys it replaces, :func:`cosim.scenarios.planar_rules.replaced_keys`)."""
+    for placement in (p for p in PLACEMENTS if table.get(p) is not None):
+        for key in replaced_keys(placement):
+            table.pop(key, None)
 
 
 def plain(obj: Any) -> Any:
