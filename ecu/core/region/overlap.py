@@ -4,7 +4,7 @@
 ``R - L`` to ``R``, ``R`` the rear axle to the front bumper, and to ``R + standoff`` for the last
 box, where the car stops; ``y`` within
 ``+-(W/2 + lateral_margin)``) stretched back by the sample spacing ``ds`` so that it covers the
-motion since pose ``k - 1``. Along an arc of curvature ``kappa`` a body point ``(o_x, o_y)`` seen
+motion since pose ``k - 1``. Along an arc of curvature ``kappa`` (the path's largest) a body point ``(o_x, o_y)`` seen
 ``t <= ds`` earlier lies, in pose ``k``'s frame, at ``(o_x - t + kappa t o_y, o_y + kappa t (t/2 - o_x))``
 to first order in ``kappa t`` (our derivation), so the box grows by
 ``e_y = |kappa| ds (ds/2 + max|o_x|) + (kappa ds)^2 (max|o_x| + W/2) / 2`` across and
@@ -48,7 +48,7 @@ def footprint(paths: PathSet, params: RegionParams) -> Footprint:
     """The stretched and widened box of every row and pose (module docstring); the standoff extends the
     last box only, where the car stops (the 1-D core's ``d + standoff <= r``)."""
     ds = paths.stop_m * (1.0 / params.path_samples)
-    turn = np.abs(paths.curvature_1pm) * ds
+    turn = paths.max_curvature_1pm * ds
     reach = max(params.rear_axle_to_front_m + params.standoff_m, params.length_m - params.rear_axle_to_front_m)
     half_w = 0.5 * params.width_m
     grow_y = turn * (0.5 * ds + reach) + (0.5 * (reach + half_w)) * (turn * turn)

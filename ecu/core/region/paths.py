@@ -66,6 +66,8 @@ class PathSet(NamedTuple):
     position ``x + iy`` and heading ``cos(psi) + i sin(psi)``)."""
 
     curvature_1pm: np.ndarray
+    #: the largest |curvature| along each path: max(|kappa_0|, |kappa_j|)
+    max_curvature_1pm: np.ndarray
     accel_mps2: np.ndarray
     hold_m: np.ndarray
     hold_speed_mps: np.ndarray
@@ -148,7 +150,8 @@ def path_family(ego: EgoState, road_curvature_1pm: float, params: RegionParams, 
     hold = np.full(kappa.shape, d_hold)
     speed = np.full(kappa.shape, v_h)
     hold[NOMINAL], speed[NOMINAL] = hold_phase(ego.speed_mps, params.driver_max_accel_mps2, t_h)
-    brake, feasible = braking_m(speed, np.maximum(np.abs(kappa), abs(k0)), friction)
+    demand = np.maximum(np.abs(kappa), abs(k0))
+    brake, feasible = braking_m(speed, demand, friction)
     stop = hold + brake
     if k0 == 0.0:  # the straight rows are the 1-D stopping path, computed by the 1-D core's own function
         stop[DRIVER] = stopping_distance_m(ego.speed_mps, ego.accel_mps2, t_h, friction)
@@ -157,4 +160,4 @@ def path_family(ego: EgoState, road_curvature_1pm: float, params: RegionParams, 
     accel[NOMINAL] = params.driver_max_accel_mps2
     lead = lead_in_m(v_h, d_hold, k0, kappa, params)
     position, heading = sample_poses(stop, lead, k0, kappa, params.sample_fractions)
-    return PathSet(kappa, accel, hold, speed, stop, feasible, position, heading, friction)
+    return PathSet(kappa, demand, accel, hold, speed, stop, feasible, position, heading, friction)
