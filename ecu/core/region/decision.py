@@ -28,7 +28,7 @@ import numpy as np
 from .objects import ObjectSet, TrackBox, object_set
 from .overlap import Footprint, corner_points, footprint, gaps, speed_at_mps
 from .params import RegionParams
-from .paths import DRIVER, FIRST_STEER, LANE, NOMINAL, EgoState, PathSet, path_family
+from .paths import DRIVER, LANE, NOMINAL, EgoState, PathSet, path_family
 from .road import Road, allowed_span, lateral_offsets, on_road
 
 
@@ -42,7 +42,10 @@ class Contingency(IntEnum):
 
 
 class RegionDecision(NamedTuple):
-    """One evaluation: the choice, its numbers, and what a bird's-eye view draws (:mod:`.drawing`)."""
+    """One evaluation: the choice, its numbers, and what a bird's-eye view draws (:mod:`.drawing`).
+
+    ``row`` indexes ``paths``: the driver's, nominal and lane rows (:data:`ecu.core.region.paths.DRIVER` ..)
+    for the first two kinds and a least-impact lane choice, the steering rows alone otherwise."""
 
     kind: Contingency
     row: int
@@ -91,42 +94,44 @@ def impact_speeds_mps(paths: PathSet, per_pose: np.ndarray) -> np.ndarray:
     return np.where(hit.any(axis=1), speed, 0.0)
 
 
-def admissible_rows(paths: PathSet, box: Footprint, objects: ObjectSet, road: Road | None) -> np.ndarray:
-    """Steering rows (and the lane row) that are followable and, with a road, stay in the allowed span."""
-    ok = paths.feasible.copy()
-    ok[DRIVER] = ok[NOMINAL] = False
-    if road is not None:
-        span = allowed_span(road, lateral_offsets(road, objects.centre - 0.0))
-        steer = on_road(road, corner_points(paths, box)[FIRST_STEER:], span)
-        ok[FIRST_STEER:] &= steer
-    return ok
+def admissible_steering(paths: PathSet, box: Footprint, objects: ObjectSet, road: Road | None) -> np.ndarray:
+    """Steering rows that are followable and, with a road, stay in the allowed span."""
+    if road is None:
+        return paths.feasible
+    span = allowed_span(road, lateral_offsets(road, objects.centre))
+    return paths.feasible & on_road(road, corner_points(paths, box), span)
 
 
 def _result(kind: Contingency, row: int, ctx: tuple, clearance: np.ndarray, impact: float) -> RegionDecision:
-    paths, box, objects, params, proximity = ctx
+    """The decision for ``row`` of ``ctx``'s paths; ``clearance[DRIVER]`` and the driver's distance from the base."""
+    paths, box, objects, params, base = ctx
     decel = 0.0 if kind is Contingency.DRIVER_PATH else contingency_decel_mps2(paths, row, params)
     return RegionDecision(kind, row, float(paths.curvature_1pm[row]), decel, float(clearance[row]), impact,
-                          float(paths.stop_m[row]), bool(clearance[DRIVER] >= 0.0), float(paths.stop_m[DRIVER]),
-                          proximity, paths, box, objects)
+                          float(paths.stop_m[row]), base.driver_disjoint, base.driver_stopping_distance_m,
+                          base.proximity, paths, box, objects)
 
 
-def _steer_or_least_impact(ego: EgoState, objects: ObjectSet, road: Road | None, params: RegionParams,
-                           proximity: float) -> RegionDecision:
-    """Rules 3 and 4 over the whole family."""
-    paths = path_family(ego, 0.0 if road is None else road.curvature_1pm, params, steering=True)
+def _steer_or_least_impact(ego: EgoState, road: Road | None, params: RegionParams,
+                           base: RegionDecision, lane_per_pose: np.ndarray) -> RegionDecision:
+    """Rules 3 and 4: the steering rows only; the lane row's result comes from ``base``."""
+    paths = path_family(ego, 0.0, params, base=False, steering=True)
     box = footprint(paths, params)
-    per_pose, clearance = clearances(paths, objects, box)
-    ok = admissible_rows(paths, box, objects, road)
-    ctx = (paths, box, objects, params, proximity)
-    steer_ok = ok.copy()
-    steer_ok[:FIRST_STEER] = False
-    disjoint = steer_ok & (clearance >= 0.0)
+    per_pose, clearance = clearances(paths, base.objects, box)
+    ok = admissible_steering(paths, box, base.objects, road)
+    ctx = (paths, box, base.objects, params, base)
+    disjoint = ok & (clearance >= 0.0)
     if disjoint.any():
         row = int(np.argmax(np.where(disjoint, clearance, -np.inf)))
         return _result(Contingency.STEER_AND_BRAKE, row, ctx, clearance, 0.0)
-    impact = np.where(ok, impact_speeds_mps(paths, per_pose), np.inf)
-    row = int(np.argmin(impact)) if ok.any() else LANE
-    return _result(Contingency.LEAST_IMPACT, row, ctx, clearance, float(impact_speeds_mps(paths, per_pose)[row]))
+    speeds = np.where(ok, impact_speeds_mps(paths, per_pose), np.inf)
+    lane_speed = float(impact_speeds_mps(base.paths, lane_per_pose)[LANE])
+    row = int(np.argmin(speeds))
+    if speeds[row] < lane_speed:
+        return _result(Contingency.LEAST_IMPACT, row, ctx, clearance, float(speeds[row]))
+    lane_clearance = np.full(base.paths.curvature_1pm.shape, base.clearance_m)
+    lane_clearance[LANE] = float(lane_per_pose[LANE].min())
+    return _result(Contingency.LEAST_IMPACT, LANE, (base.paths, base.box, base.objects, params, base),
+                   lane_clearance, lane_speed)
 
 
 def decide(ego: EgoState, tracks: Sequence[TrackBox], road: Road | None, params: RegionParams) -> RegionDecision:
@@ -134,11 +139,14 @@ def decide(ego: EgoState, tracks: Sequence[TrackBox], road: Road | None, params:
     objects = object_set(tracks, ego.speed_mps, params)
     paths = path_family(ego, 0.0 if road is None else road.curvature_1pm, params, steering=False)
     box = footprint(paths, params)
-    _, clearance = clearances(paths, objects, box)
-    proximity = proximity_of(float(clearance[NOMINAL]), params)
-    ctx = (paths, box, objects, params, proximity)
-    if clearance[DRIVER] >= 0.0:
-        return _result(Contingency.DRIVER_PATH, DRIVER, ctx, clearance, 0.0)
+    per_pose, clearance = clearances(paths, objects, box)
+    driver_disjoint = bool(clearance[DRIVER] >= 0.0)
+    base = RegionDecision(Contingency.DRIVER_PATH, DRIVER, float(paths.curvature_1pm[DRIVER]), 0.0,
+                          float(clearance[DRIVER]), 0.0, float(paths.stop_m[DRIVER]), driver_disjoint,
+                          float(paths.stop_m[DRIVER]), proximity_of(float(clearance[NOMINAL]), params),
+                          paths, box, objects)
+    if driver_disjoint:
+        return base
     if clearance[LANE] >= 0.0 and paths.feasible[LANE]:
-        return _result(Contingency.BRAKE_IN_LANE, LANE, ctx, clearance, 0.0)
-    return _steer_or_least_impact(ego, objects, road, params, proximity)
+        return _result(Contingency.BRAKE_IN_LANE, LANE, (paths, box, objects, params, base), clearance, 0.0)
+    return _steer_or_least_impact(ego, road, params, base, per_pose)

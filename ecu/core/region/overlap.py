@@ -81,10 +81,13 @@ def gaps(paths: PathSet, objects: ObjectSet, box: Footprint) -> np.ndarray:
 
 
 def corner_points(paths: PathSet, box: Footprint) -> np.ndarray:
-    """The four corners of every footprint box as complex points, shape ``(N, M, 4)`` (road test, drawing)."""
-    lo, hi, w = (box.mid_x_m - box.half_x_m)[..., 0], (box.mid_x_m + box.half_x_m)[..., 0], box.half_y_m[..., 0]
-    w = np.broadcast_to(w, lo.shape)
-    local = np.stack((hi + 1j * w, lo + 1j * w, lo - 1j * w, hi - 1j * w), axis=-1)
+    """The corners (front left, rear left, rear right, front right) of every footprint box as complex points,
+    shape ``(N, M, 4)`` (road test, drawing)."""
+    local = np.empty((*paths.position.shape, 4), complex)
+    local.real[..., ::3] = box.mid_x_m + box.half_x_m  # front left, front right
+    local.real[..., 1:3] = box.mid_x_m - box.half_x_m  # rear left, rear right
+    local.imag[..., :2] = box.half_y_m
+    local.imag[..., 2:] = -box.half_y_m
     return paths.position[..., None] + paths.heading[..., None] * local
 
 

@@ -95,15 +95,16 @@ def hold_phase(speed_mps: float, accel_mps2: float, hold_s: float) -> tuple[floa
 
 
 def curvature_rows(k0: float, v_h: float, road_curvature_1pm: float, params: RegionParams,
-                   steering: bool) -> np.ndarray:
-    """The curvature of every row: driver, nominal, lane, then (``steering``) the levels ``a_j / v_h^2``."""
-    if not steering:
-        return np.array((k0, k0, road_curvature_1pm))
+                   base: bool, steering: bool) -> np.ndarray:
+    """The rows' curvatures: (``base``) driver, nominal, lane, then (``steering``) the levels ``a_j / v_h^2``."""
     limit = math.tan(params.steer_angle_max_rad) / params.wheelbase_m
     scale = min(1.0 / max(v_h * v_h, 1e-9), limit / params.emergency_lat_accel_max_mps2)
-    kappa = np.empty(FIRST_STEER + params.steer_paths)
-    kappa[:FIRST_STEER] = k0, k0, road_curvature_1pm
-    np.multiply(params.lateral_levels_mps2, scale, out=kappa[FIRST_STEER:])
+    first = FIRST_STEER if base else 0
+    kappa = np.empty(first + (params.steer_paths if steering else 0))
+    if base:
+        kappa[:FIRST_STEER] = k0, k0, road_curvature_1pm
+    if steering:
+        np.multiply(params.lateral_levels_mps2, scale, out=kappa[first:])
     return kappa
 
 
@@ -116,12 +117,10 @@ def braking_m(v_h: np.ndarray, kappa: np.ndarray, friction_mps2: float) -> tuple
 
 
 def lead_in_m(v_h: float, d_hold: float, k0: float, kappa: np.ndarray, params: RegionParams) -> np.ndarray:
-    """s_lead = d_hold + v_h tau + v_h |kappa - kappa_0| / (2 kappa_dot); the driver's rows keep kappa_0 throughout."""
+    """s_lead = d_hold + v_h tau + v_h |kappa - kappa_0| / (2 kappa_dot)."""
     rate = min(params.steer_rate_max_radps / params.wheelbase_m,
                params.emergency_lat_jerk_max_mps3 / max(v_h * v_h, 1e-9))
-    lead = (d_hold + v_h * params.steer_lag_s) + (v_h / (2.0 * rate)) * np.abs(kappa - k0)
-    lead[DRIVER] = lead[NOMINAL] = np.inf
-    return lead
+    return (d_hold + v_h * params.steer_lag_s) + (v_h / (2.0 * rate)) * np.abs(kappa - k0)
 
 
 def sample_poses(stop_m: np.ndarray, lead_m: np.ndarray, k0: float, kappa: np.ndarray,
@@ -140,24 +139,31 @@ def sample_poses(stop_m: np.ndarray, lead_m: np.ndarray, k0: float, kappa: np.nd
     return (turn1 - 1.0) / (1j * k0) + turn1 * z2, turn1 * turn2
 
 
-def path_family(ego: EgoState, road_curvature_1pm: float, params: RegionParams, steering: bool = True) -> PathSet:
-    """Every row's stopping path: the family of the module docstring, sampled; without ``steering``
-    only the driver's, nominal and lane rows (the steering rows are needed only if those collide)."""
+def _driver_rows(ego: EgoState, t_h: float, rows: tuple[np.ndarray, ...], params: RegionParams) -> None:
+    """Set the nominal row's full throttle and the driver's rows' endless lead-in (kappa_0 throughout)."""
+    hold, speed, accel, lead = rows
+    hold[NOMINAL], speed[NOMINAL] = hold_phase(ego.speed_mps, params.driver_max_accel_mps2, t_h)
+    accel[NOMINAL] = params.driver_max_accel_mps2
+    lead[DRIVER] = lead[NOMINAL] = np.inf
+
+
+def path_family(ego: EgoState, road_curvature_1pm: float, params: RegionParams, base: bool = True,
+                steering: bool = True) -> PathSet:
+    """The rows of the module docstring, sampled: (``base``) the driver's, nominal and lane rows, (``steering``)
+    the steering rows; :mod:`ecu.core.region.decision` builds the steering rows only if the base rows collide."""
     k0 = current_curvature(ego, params)
     t_h, friction = params.hold_time_s, min(ego.decel_mps2, ego.friction_mu * GRAVITY_MPS2)
     d_hold, v_h = hold_phase(ego.speed_mps, ego.accel_mps2, t_h)
-    kappa = curvature_rows(k0, v_h, road_curvature_1pm, params, steering)
-    hold = np.full(kappa.shape, d_hold)
-    speed = np.full(kappa.shape, v_h)
-    hold[NOMINAL], speed[NOMINAL] = hold_phase(ego.speed_mps, params.driver_max_accel_mps2, t_h)
+    kappa = curvature_rows(k0, v_h, road_curvature_1pm, params, base, steering)
+    hold, speed, accel = np.full(kappa.shape, d_hold), np.full(kappa.shape, v_h), np.full(kappa.shape, ego.accel_mps2)
+    lead = lead_in_m(v_h, d_hold, k0, kappa, params)
+    if base:
+        _driver_rows(ego, t_h, (hold, speed, accel, lead), params)
     demand = np.maximum(np.abs(kappa), abs(k0))
     brake, feasible = braking_m(speed, demand, friction)
     stop = hold + brake
-    if k0 == 0.0:  # the straight rows are the 1-D stopping path, computed by the 1-D core's own function
+    if base and k0 == 0.0:  # the straight driver's rows: the 1-D core's own stopping distance
         stop[DRIVER] = stopping_distance_m(ego.speed_mps, ego.accel_mps2, t_h, friction)
         stop[NOMINAL] = stopping_distance_m(ego.speed_mps, params.driver_max_accel_mps2, t_h, friction)
-    accel = np.full(kappa.shape, ego.accel_mps2)
-    accel[NOMINAL] = params.driver_max_accel_mps2
-    lead = lead_in_m(v_h, d_hold, k0, kappa, params)
     position, heading = sample_poses(stop, lead, k0, kappa, params.sample_fractions)
     return PathSet(kappa, demand, accel, hold, speed, stop, feasible, position, heading, friction)

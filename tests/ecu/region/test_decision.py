@@ -8,7 +8,7 @@ from ecu.core import CoreParams
 from ecu.core.region import Contingency, EgoState, Road, TrackBox, decide, region_params
 from ecu.core.region.decision import clearances
 from ecu.core.region.overlap import corner_points
-from ecu.core.region.paths import FIRST_STEER, LANE
+from ecu.core.region.paths import LANE, path_family
 from ecu.core.region.road import lateral_offsets
 
 CLASS = {name: value for value, name in enumeration("RadarTrack0", "Track0SizeClass").items()}
@@ -47,10 +47,11 @@ def test_rule_3_only_steering_avoids_a_stopped_car_beyond_the_braking_distance()
 def test_steering_picks_the_largest_clearance_and_respects_the_road():
     d = decide(EgoState(25.0, 0.0, D), [_standing(43.0, 0.0, 25.0)], TWO_LANES, P)
     assert d.kind is Contingency.STEER_AND_BRAKE
-    ok_rows = [r for r in range(FIRST_STEER, len(d.paths.curvature_1pm)) if d.paths.feasible[r]]
     e = lateral_offsets(TWO_LANES, corner_points(d.paths, d.box)[d.row])
     assert e.min() >= -1.75 and e.max() <= 5.25
-    assert ok_rows and d.paths.curvature_1pm[d.row] > 0.0  # the right side is off the road
+    assert d.paths.curvature_1pm[d.row] > 0.0  # the right side is off the road
+    free = decide(EgoState(25.0, 0.0, D), [_standing(43.0, 0.0, 25.0)], None, P)
+    assert free.clearance_m >= d.clearance_m  # without a road the choice is at least as clear
 
 
 def test_symmetric_scenes_give_mirrored_choices():
@@ -64,9 +65,9 @@ def test_symmetric_scenes_give_mirrored_choices():
     # without a road, a centred object gives two mirrored best rows of equal clearance
     free = decide(EgoState(30.0, 0.0, D), [_standing(58.0, 0.0, 30.0, "CAR")], None, P)
     _, clearance = clearances(free.paths, free.objects, free.box)
-    mirror = len(clearance) - 1 - (free.row - FIRST_STEER)
+    mirror = len(clearance) - 1 - free.row  # the steering rows alone, symmetric about the middle one
     assert mirror != free.row and clearance[mirror] == pytest.approx(free.clearance_m)
-    assert free.clearance_m == pytest.approx(clearance[FIRST_STEER:].max())
+    assert free.clearance_m == pytest.approx(clearance.max())
 
 
 def test_an_occupied_left_lane_forbids_steering_into_it():
@@ -91,6 +92,6 @@ def test_between_walls_nothing_avoids_and_the_least_impact_speed_is_chosen():
 def test_steering_rows_keep_the_r79_lateral_acceleration_cap():
     capped = region_params(CoreParams(), emergency_lat_accel_max_mps2=1.0)
     d = decide(EgoState(30.0, 0.0, D), [_standing(58.0, 0.0, 30.0, "CAR")], TWO_LANES, capped)
-    steer = d.paths.curvature_1pm[FIRST_STEER:]
-    assert np.max(np.abs(steer)) * d.paths.hold_speed_mps[FIRST_STEER] ** 2 == pytest.approx(1.0)
+    steer = path_family(EgoState(30.0, 0.0, D), 0.0, capped, base=False)
+    assert np.max(np.abs(steer.curvature_1pm)) * steer.hold_speed_mps[0] ** 2 == pytest.approx(1.0)
     assert d.kind is Contingency.LEAST_IMPACT  # 1 m/s^2 cannot clear the car in time; 3 m/s^2 does (rule 3 test)

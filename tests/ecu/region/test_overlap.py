@@ -87,4 +87,7 @@ def test_corner_points_span_the_footprint():
     paths = path_family(EgoState(10.0, 0.0, 8.1), 0.0, P, steering=False)
     corners = corner_points(paths, footprint(paths, P))
     assert corners.shape == (3, P.path_samples, 4)
-    assert corners[0, -1, 0].real == pytest.approx(paths.position[0, -1].real + P.rear_axle_to_front_m + P.standoff_m)
+    front = paths.position[0, -1].real + P.rear_axle_to_front_m + P.standoff_m
+    rear = paths.position[0, -1].real + P.rear_axle_to_front_m - P.length_m - paths.stop_m[0] / P.path_samples
+    half = 0.5 * P.width_m + P.lateral_margin_m
+    assert corners[0, -1] == pytest.approx([front + 1j * half, rear + 1j * half, rear - 1j * half, front - 1j * half])
