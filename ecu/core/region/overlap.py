@@ -51,11 +51,12 @@ def footprint(paths: PathSet, params: RegionParams) -> Footprint:
     turn = paths.max_curvature_1pm * ds
     reach = max(params.rear_axle_to_front_m + params.standoff_m, params.length_m - params.rear_axle_to_front_m)
     half_w = 0.5 * params.width_m
-    grow_y = turn * (0.5 * ds + reach) + (0.5 * (reach + half_w)) * (turn * turn)
+    grow_y = turn * (0.5 * ds + reach + (0.5 * (reach + half_w)) * turn)
     grow_x = turn * half_w + grow_y
-    front = (params.rear_axle_to_front_m + grow_x)[:, None] + params.standoff_at_samples_m
-    rear = ((params.rear_axle_to_front_m - params.length_m) - ds - grow_x)[:, None]
-    return Footprint((0.5 * (front + rear))[..., None], (0.5 * (front - rear))[..., None],
+    half_x = 0.5 * (params.length_m + ds) + grow_x  # from the stretched rear to the front, grown both ways
+    mid_x = (params.rear_axle_to_front_m - 0.5 * params.length_m) - 0.5 * ds
+    standoff = 0.5 * params.standoff_at_samples_m
+    return Footprint((mid_x[:, None] + standoff)[..., None], (half_x[:, None] + standoff)[..., None],
                      ((half_w + params.lateral_margin_m) + grow_y)[:, None, None])
 
 
@@ -92,14 +93,11 @@ def corner_points(paths: PathSet, box: Footprint) -> np.ndarray:
 
 
 def speed_at_mps(paths: PathSet, s_m: np.ndarray) -> np.ndarray:
-    """Speed (m/s) at arc length ``s_m`` (shape ``(N, ...)``): ``v^2 + 2 a s`` in the hold, then
+    """Speed (m/s) of every row at its arc length ``s_m`` (shape ``(N,)``): ``v^2 + 2 a s`` in the hold, then
     ``v_h^2 (1 - (s - d_hold) / s_brake)``, the braking's mean deceleration (an approximation of the
     friction-circle profile that ranks paths by impact speed)."""
-    v_h = paths.hold_speed_mps.reshape(-1, *([1] * (s_m.ndim - 1)))
-    hold = paths.hold_m.reshape(v_h.shape)
-    brake = np.maximum((paths.stop_m.reshape(v_h.shape) - hold), 1e-9)
-    accel = paths.accel_mps2.reshape(v_h.shape)
-    v0_sq = np.maximum(v_h * v_h - 2.0 * accel * hold, 0.0)
-    in_hold = np.maximum(v0_sq + 2.0 * accel * s_m, 0.0)
-    braking = v_h * v_h * np.clip(1.0 - (s_m - hold) / brake, 0.0, 1.0)
+    v_h, hold, a = paths.hold_speed_mps, paths.hold_m, paths.accel_mps2
+    v_h_sq = v_h * v_h
+    in_hold = np.maximum(v_h_sq - 2.0 * a * (hold - s_m), 0.0)
+    braking = v_h_sq * np.maximum(1.0 - (s_m - hold) / np.maximum(paths.stop_m - hold, 1e-9), 0.0)
     return np.sqrt(np.where(s_m <= hold, in_hold, braking))
