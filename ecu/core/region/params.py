@@ -58,7 +58,8 @@ class ClassCapability(NamedTuple):
 
 # Boxes: the DBC's comment of Track<i>SizeClass (Euro NCAP targets as Vector's OSC-NCAP-scenarios encodes
 # them: EPTa 0.6 x 0.5, EBTa 1.89 x 0.5, GVT 4.0 x 1.7 m); motorcycle 2.08 x 0.79 m (S4, planar-protocol-facts
-# 1.1); truck 12 x 2.55 m (EU Directive 96/53/EC maximum rigid-vehicle length and width).
+# 1.1); truck 12 x 2.55 m (EU Directive 96/53/EC maximum rigid-vehicle length and width; from memory, not in
+# planar-protocol-facts.md).
 # Capabilities: cars, motorcycles: RSS alpha_brake,min 4 m/s^2 and lateral alpha_lat,accel,max 0.2 m/s^2
 # (ad-rss-lib defaults, S16), the lateral reach capped at RSS's 0.5 m lane margin (3 m lane, 2 m car, S16);
 # trucks: RSS alpha_brake,min,correct 3 m/s^2 (a heavy vehicle brakes less); pedestrians: CARLA's pedestrian
