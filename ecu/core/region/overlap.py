@@ -1,0 +1,103 @@
+"""Overlap of the sampled stopping paths with the objects, and with the road's bounds, vectorised.
+
+**Footprint.** Box ``k`` of a path is the ego's box at pose ``k`` (rear axle; ``x`` from
+``R - L`` to ``R``, ``R`` the rear axle to the front bumper, and to ``R + standoff`` for the last
+box, where the car stops; ``y`` within
+``+-(W/2 + lateral_margin)``) stretched back by the sample spacing ``ds`` so that it covers the
+motion since pose ``k - 1``. Along an arc of curvature ``kappa`` (the path's largest) a body point ``(o_x, o_y)`` seen
+``t <= ds`` earlier lies, in pose ``k``'s frame, at ``(o_x - t + kappa t o_y, o_y + kappa t (t/2 - o_x))``
+to first order in ``kappa t`` (our derivation), so the box grows by
+``e_y = |kappa| ds (ds/2 + max|o_x|) + (kappa ds)^2 (max|o_x| + W/2) / 2`` across and
+``e_x = |kappa| ds W/2 + e_y`` along (second-order term as a margin;
+``tests/ecu/region/test_overlap.py`` checks the cover against densely sampled poses).
+
+**Separation.** For every path, pose and object: the object's box projected on the pose's axes
+(half extents ``h_x = a|cos b| + b_w|sin b|``, ``h_y = a|sin b| + b_w|cos b|``, ``b`` the heading
+difference) against the footprint; the gap is the larger of the two axis gaps::
+
+    g = max(|l_x - m_x| - w_x - h_x,  |l_y| - w_y - h_y)
+
+``(l_x, l_y)`` the object's centre in the pose's frame, ``m_x, w_x`` the footprint's middle and
+half length, ``w_y`` its half width. This is the separating-axis test on the pose's two axes: an
+object's axes are not tried, so a box turned against the ego counts by its bounding box in the
+ego's axes (conservative; exact when the two are aligned, as in the 1-D case, where
+``g = r - d - standoff``). ``g >= 0``: disjoint; the clearance of a path is its smallest ``g``.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .objects import ObjectSet
+from .params import RegionParams
+from .paths import PathSet
+
+
+class Footprint(NamedTuple):
+    """Per row and pose (shape ``(N, M, 1)``): the box's middle and half length along x; per row
+    (``(N, 1, 1)``) its half width."""
+
+    mid_x_m: np.ndarray
+    half_x_m: np.ndarray
+    half_y_m: np.ndarray
+
+
+def footprint(paths: PathSet, params: RegionParams) -> Footprint:
+    """The stretched and widened box of every row and pose (module docstring); the standoff extends the
+    last box only, where the car stops (the 1-D core's ``d + standoff <= r``)."""
+    ds = paths.stop_m * (1.0 / params.path_samples)
+    turn = paths.max_curvature_1pm * ds
+    reach = max(params.rear_axle_to_front_m + params.standoff_m, params.length_m - params.rear_axle_to_front_m)
+    half_w = 0.5 * params.width_m
+    grow_y = turn * (0.5 * ds + reach + (0.5 * (reach + half_w)) * turn)
+    grow_x = turn * half_w + grow_y
+    half_x = 0.5 * (params.length_m + ds) + grow_x  # from the stretched rear to the front, grown both ways
+    mid_x = (params.rear_axle_to_front_m - 0.5 * params.length_m) - 0.5 * ds
+    standoff = 0.5 * params.standoff_at_samples_m
+    return Footprint((mid_x[:, None] + standoff)[..., None], (half_x[:, None] + standoff)[..., None],
+                     ((half_w + params.lateral_margin_m) + grow_y)[:, None, None])
+
+
+def gaps(paths: PathSet, objects: ObjectSet, box: Footprint) -> np.ndarray:
+    """Separation ``g`` (m) of every row, pose and object, shape ``(N, M, K)`` (module docstring).
+
+    Complex arithmetic: the object's centre in the pose's frame is ``(o - z) conj(h)`` and the heading
+    difference ``conj(u) h`` (``z, h`` the pose's position and heading, ``o, u`` the object's)."""
+    heading = paths.heading[..., None]
+    local = (objects.centre - paths.position[..., None]) * np.conj(heading)
+    turn = objects.axis_conj * heading
+    rc, rs = np.abs(turn.real), np.abs(turn.imag)
+    a, b = objects.half_length_m, objects.half_width_m
+    gx = np.abs(local.real - box.mid_x_m)
+    gx -= box.half_x_m
+    gx -= a * rc
+    gx -= b * rs
+    gy = np.abs(local.imag)
+    gy -= box.half_y_m
+    gy -= a * rs
+    gy -= b * rc
+    return np.maximum(gx, gy, out=gx)
+
+
+def corner_points(paths: PathSet, box: Footprint) -> np.ndarray:
+    """The corners (front left, rear left, rear right, front right) of every footprint box as complex points,
+    shape ``(N, M, 4)`` (road test, drawing)."""
+    local = np.empty((*paths.position.shape, 4), complex)
+    local.real[..., ::3] = box.mid_x_m + box.half_x_m  # front left, front right
+    local.real[..., 1:3] = box.mid_x_m - box.half_x_m  # rear left, rear right
+    local.imag[..., :2] = box.half_y_m
+    local.imag[..., 2:] = -box.half_y_m
+    return paths.position[..., None] + paths.heading[..., None] * local
+
+
+def speed_at_mps(paths: PathSet, s_m: np.ndarray) -> np.ndarray:
+    """Speed (m/s) of every row at its arc length ``s_m`` (shape ``(N,)``): ``v^2 + 2 a s`` in the hold, then
+    ``v_h^2 (1 - (s - d_hold) / s_brake)``, the braking's mean deceleration (an approximation of the
+    friction-circle profile that ranks paths by impact speed)."""
+    v_h, hold, a = paths.hold_speed_mps, paths.hold_m, paths.accel_mps2
+    v_h_sq = v_h * v_h
+    in_hold = np.maximum(v_h_sq - 2.0 * a * (hold - s_m), 0.0)
+    braking = v_h_sq * np.maximum(1.0 - (s_m - hold) / np.maximum(paths.stop_m - hold, 1e-9), 0.0)
+    return np.sqrt(np.where(s_m <= hold, in_hold, braking))
