@@ -45,6 +45,8 @@ void plant_planar_initialize(PlantModel *m) {
     s->delta_rad = steering_command(&m->var);
     s->beta_rad = kinematic_sideslip(m, s->delta_rad);
     s->yaw_rate_radps = kinematic_yaw_rate(m, s->v_mps, s->beta_rad, s->delta_rad);
+    plant_angle_trig_set(&s->delta_trig, s->delta_rad);
+    plant_angle_trig_set(&s->course_trig, s->yaw_rad + s->beta_rad);
 }
 
 void plant_steering_step(PlantModel *m, double h, double a_steer) {
@@ -53,24 +55,14 @@ void plant_steering_step(PlantModel *m, double h, double a_steer) {
     double limit = p->steering_rate_max * h;
     double change = plant_clamp(a_steer * (steering_command(p) - s->delta_rad), -limit, limit);
     s->delta_rad = plant_clamp(s->delta_rad + change, -p->steering_angle_max, p->steering_angle_max);
-}
-
-/* cos and sin of an angle; of 0 without a call (the values the call would give): while the car
- * drives straight its sideslip and road-wheel angles are exactly 0. */
-static void cos_sin(double angle, double *c, double *s) {
-    if (angle == 0.0) {
-        *c = 1.0;
-        *s = angle;
-        return;
-    }
-    *c = cos(angle);
-    *s = sin(angle);
+    plant_angle_trig(&s->delta_trig, s->delta_rad);
 }
 
 void plant_planar_kinematics(const PlantModel *m, PlanarKinematics *kin) {
     const PlantState *s = &m->st;
-    cos_sin(s->beta_rad, &kin->cos_beta, &kin->sin_beta);
-    cos_sin(s->delta_rad, &kin->cos_delta, &kin->sin_delta);
+    plant_cos_sin(s->beta_rad, &kin->cos_beta, &kin->sin_beta);
+    kin->cos_delta = s->delta_trig.c;
+    kin->sin_delta = s->delta_trig.s;
     double u = s->v_mps * kin->cos_beta;  /* the body's velocity at its centre of gravity */
     double w = s->v_mps * kin->sin_beta;
     double w_front = w + m->var.cg_to_front_axle * s->yaw_rate_radps;
@@ -95,9 +87,8 @@ void plant_lateral_forces(const PlantModel *m, const double fz_n[PLANT_AXLES], c
             f->fy_slope[axle] = m->var.tyre_cornering_stiffness * m->var.road_friction * fz_n[axle];
             continue;
         }
-        double alpha = atan2(-kin->w[axle], fabs(kin->u[axle]));
-        double slope;
-        f->fy[axle] = plant_magic_formula(&m->k.lateral, alpha, peak, &slope);
+        double slope;  /* the slip angle alpha = atan2(-w, |u|) through the tabulated curve */
+        f->fy[axle] = plant_tyre_curve_force(&m->k.lateral, kin->w[axle], fabs(kin->u[axle]), peak, &slope);
         f->fy_slope[axle] = fmax(slope, 0.0);
     }
 }
@@ -167,12 +158,25 @@ void plant_planar_step(PlantModel *m, double h, const PlanarKinematics *kin, con
     s->yaw_rad += 0.5 * h * (r + s->yaw_rate_radps);
     double course = 0.5 * ((yaw + s->yaw_rad) + (beta + s->beta_rad));
     double ds = 0.5 * (v + v_new) * h;
-    double c, sn;
-    cos_sin(course, &c, &sn);
-    s->x_m += ds * c;
-    s->y_m += ds * sn;
+    const AngleTrig *dir = plant_angle_trig(&s->course_trig, course);
+    s->x_m += ds * dir->c;
+    s->y_m += ds * dir->s;
     /* across the velocity v (beta' + r); in the vehicle frame with the along-track part (the
      * sideslip of the step's start) */
     double a_across = 0.5 * (v + v_new) * ((s->beta_rad - beta) + (s->yaw_rad - yaw)) / h;
     s->ay_mps2 = s->a_mps2 * kin->sin_beta + a_across * kin->cos_beta;
+}
+
+bool plant_planar_is_straight(const PlantModel *m) {
+    const PlantState *s = &m->st;
+    return s->delta_rad == 0.0 && s->beta_rad == 0.0 && s->yaw_rate_radps == 0.0;
+}
+
+void plant_straight_step(PlantModel *m, double h, double v_new) {
+    PlantState *s = &m->st;
+    double ds = 0.5 * (s->v_mps + v_new) * h;
+    const AngleTrig *dir = plant_angle_trig(&s->course_trig, s->yaw_rad);
+    s->x_m += ds * dir->c;
+    s->y_m += ds * dir->s;
+    s->ay_mps2 = 0.0;
 }
