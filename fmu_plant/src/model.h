@@ -54,6 +54,8 @@ typedef struct {
     AngleTrig delta_trig;              /* of delta_rad: the wheel is often held */
     AngleTrig course_trig;             /* of the last course angle: constant while driving straight */
     AngleTrig grade_trig;              /* of the road grade, an input that seldom changes */
+    AngleTrig beta_trig;               /* of beta_rad: the outputs and the next step's kinematics */
+    bool straight;                     /* this step drives straight (plant_planar_is_straight) */
 } PlantState;
 
 /* Magic Formula coefficients of one direction (Pacejka 2012, eq. 4.49). */
@@ -61,14 +63,18 @@ typedef struct {
     double B, C, E;
 } TyreShape;
 
-/* The lateral tyre characteristic tabulated over the lateral slip s = tan(alpha) in [0, S]
- * (tyre_curve.c): G(s) = sin(C atan(B alpha - E (B alpha - atan(B alpha)))) and dG/ds times
- * the node spacing, at N + 1 nodes. */
+/* A tyre characteristic tabulated over its input q in [0, Q] (tyre_curve.c): the Magic Formula
+ * G(x) = sin(C atan(B x - E (B x - atan(B x)))) at x = q (slip ratio) or x = atan(q) (q the
+ * lateral slip tan(alpha)), and dG/dq times the node spacing, at N + 1 nodes spaced at most
+ * Q / N and 1 / (50 B max(1, C) max(1, |1 - E|)). */
 #define TYRE_CURVE_NODES 1024
-#define TYRE_CURVE_SLIP_MAX 1.0
+#define TYRE_CURVE_INPUT_MAX 1.0
+#define TYRE_CURVE_NODES_PER_BEND 50.0
 typedef struct {
     TyreShape shape;
-    double step, inv_step;
+    bool slip_angle;        /* q = tan(alpha) */
+    double step, inv_step;  /* node spacing d and 1 / d */
+    double input_max;       /* N d: the formula beyond */
     double g[TYRE_CURVE_NODES + 1];
     double dg[TYRE_CURVE_NODES + 1];
 } TyreCurve;
@@ -84,6 +90,7 @@ typedef struct {
     double alpha_steer;     /* 1 - exp(-h / steering_time_constant), 1 without a lag */
     double cg_to_rear_axle; /* wheelbase - cg_to_front_axle */
     TyreShape longitudinal; /* tyre_B, tyre_C, tyre_E */
+    TyreCurve longitudinal_curve;  /* its table, for steps that are not straight */
     TyreCurve lateral;      /* B from the cornering stiffness, tyre_lateral_C and _D; tyre_lateral_E */
 } PlantDerived;
 
@@ -164,18 +171,20 @@ static inline double plant_magic_formula(const TyreShape *t, double x, double pe
 }
 
 
-/* tyre_curve.c: the table of the lateral characteristic of shape. */
-void plant_tyre_curve_build(TyreCurve *curve, const TyreShape *shape);
+/* tyre_curve.c: the table of the characteristic of shape; slip_angle: its input is tan(alpha). */
+void plant_tyre_curve_build(TyreCurve *curve, const TyreShape *shape, bool slip_angle);
+/* tyre_curve.c: G(q) from the table (the formula beyond it), and dG/dq. */
+double plant_tyre_curve(const TyreCurve *curve, double q, double *dg_dq);
 /* tyre_curve.c: the pure lateral force, N, of an axle whose contact point moves at w across
  * and |u| = u_abs along its wheel, at peak force peak_n; slope = dFy/dalpha, N/rad. */
-double plant_tyre_curve_force(const TyreCurve *curve, double w, double u_abs, double peak_n, double *slope);
+double plant_lateral_tyre_force(const TyreCurve *curve, double w, double u_abs, double peak_n, double *slope);
 
 /* planar.c: the road wheel at its initial command, sideslip and yaw rate on its kinematic circle. */
 void plant_planar_initialize(PlantModel *m);
 /* planar.c: the steering actuator over h with lag factor a_steer. */
 void plant_steering_step(PlantModel *m, double h, double a_steer);
 /* planar.c: the kinematics of the current v, beta, yaw rate and delta. */
-void plant_planar_kinematics(const PlantModel *m, PlanarKinematics *kin);
+void plant_planar_kinematics(PlantModel *m, PlanarKinematics *kin);
 /* planar.c: the pure-slip lateral tyre forces and their slopes (the wheel step then limits
  * them with the longitudinal forces to the friction ellipse). */
 void plant_lateral_forces(const PlantModel *m, const double fz_n[PLANT_AXLES], const PlanarKinematics *kin,
