@@ -291,6 +291,7 @@ void plant_publish_outputs(PlantModel *m) {
     p->yaw = s->yaw_rad;
     p->yaw_rate = s->yaw_rate_radps;
     p->ay = s->ay_mps2;
+    p->ax = s->ax_mps2;
     p->vx = s->v_mps * beta->c;
     p->vy = s->v_mps * beta->s;
     p->delta = s->delta_rad;

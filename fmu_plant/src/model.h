@@ -51,6 +51,7 @@ typedef struct {
     double yaw_rad;
     double y_m;
     double ay_mps2;                    /* vehicle-frame lateral acceleration, last step */
+    double ax_mps2;                    /* vehicle-frame longitudinal acceleration, last step */
     AngleTrig delta_trig;              /* of delta_rad: the wheel is often held */
     AngleTrig course_trig;             /* of the last course angle: constant while driving straight */
     AngleTrig grade_trig;              /* of the road grade, an input that seldom changes */

@@ -178,10 +178,11 @@ void plant_planar_step(PlantModel *m, double h, const PlanarKinematics *kin, con
     const AngleTrig *dir = plant_angle_trig(&s->course_trig, course);
     s->x_m += ds * dir->c;
     s->y_m += ds * dir->s;
-    /* across the velocity v (beta' + r); in the vehicle frame with the along-track part (the
-     * sideslip of the step's start) */
+    /* across the velocity v (beta' + r); with a along it turned into the vehicle frame by the
+     * sideslip of the step's start: ay across the car, ax along it */
     double a_across = 0.5 * (v + v_new) * ((s->beta_rad - beta) + (s->yaw_rad - yaw)) / h;
     s->ay_mps2 = s->a_mps2 * kin->sin_beta + a_across * kin->cos_beta;
+    s->ax_mps2 = s->a_mps2 * kin->cos_beta - a_across * kin->sin_beta;
 }
 
 bool plant_planar_is_straight(const PlantModel *m) {
@@ -196,4 +197,5 @@ void plant_straight_step(PlantModel *m, double h, double v_new) {
     s->x_m += ds * dir->c;
     s->y_m += ds * dir->s;
     s->ay_mps2 = 0.0;
+    s->ax_mps2 = s->a_mps2;
 }
