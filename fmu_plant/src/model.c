@@ -277,7 +277,7 @@ void plant_step(PlantModel *m, double h, bool enters_cell) {
 void plant_publish_outputs(PlantModel *m) {
     PlantVariables *p = &m->var;
     PlantState *s = &m->st;
-    const AngleTrig *beta = plant_angle_trig(&s->beta_trig, s->beta_rad);
+    const AngleTrig *beta = plant_angle_turn(&s->beta_trig, s->beta_rad);
     p->x = s->x_m;
     p->v = s->v_mps;
     p->a = s->a_mps2;

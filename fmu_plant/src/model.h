@@ -157,6 +157,36 @@ static inline const AngleTrig *plant_angle_trig(AngleTrig *t, double angle) {
     return t;
 }
 
+/* Largest turn, rad, that plant_angle_turn takes by its series (beyond it: cos and sin). */
+#define PLANT_SMALL_TURN_RAD 0.03125
+
+/* The kept cos and sin of angle, for an angle that moves in small steps (the road-wheel angle,
+ * the sideslip, the course while turning): the kept pair turned by d = angle - t->angle,
+ *   (c, s) <- (c cos d - s sin d, s cos d + c sin d),
+ * with cos d and sin d from their Taylor series to d^8 and d^7, whose remainders (d^10/10!,
+ * d^9/9!) lie below 1e-19 for |d| <= 1/32 (M. Abramowitz, I. Stegun, "Handbook of Mathematical
+ * Functions", 4.3.65-66); a larger change takes cos and sin of the angle itself. Each turn
+ * rounds once, so the pair stays within about sqrt(steps) ulp of cos and sin of the angle (and
+ * of unit length): no trig call while the car turns. */
+static inline const AngleTrig *plant_angle_turn(AngleTrig *t, double angle) {
+    double d = angle - t->angle;
+    if (d == 0.0) {
+        return t;
+    }
+    if (!(fabs(d) <= PLANT_SMALL_TURN_RAD)) {
+        plant_angle_trig_set(t, angle);
+        return t;
+    }
+    double d2 = d * d;
+    double sd = d * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0))));
+    double cd = 1.0 - d2 * 0.5 * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0) * (1.0 - d2 * (1.0 / 56.0))));
+    double c = t->c, s = t->s;
+    t->c = c * cd - s * sd;
+    t->s = s * cd + c * sd;
+    t->angle = angle;
+    return t;
+}
+
 /* First-order lag factor 1 - exp(-h/tau) (exact discretisation); 1 for tau = 0 (no lag). */
 double plant_lag_factor(double h, double tau);
 

@@ -42,7 +42,7 @@ static double kinematic_yaw_rate(const PlantModel *m, double v) {
 static void kinematic_motion(PlantModel *m, double v) {
     PlantState *s = &m->st;
     s->beta_rad = kinematic_sideslip(m);
-    plant_angle_trig(&s->beta_trig, s->beta_rad);
+    plant_angle_turn(&s->beta_trig, s->beta_rad);
     s->yaw_rate_radps = kinematic_yaw_rate(m, v);
 }
 
@@ -71,12 +71,12 @@ void plant_steering_step(PlantModel *m, double h, double a_steer) {
     double limit = p->steering_rate_max * h;
     double change = plant_clamp(a_steer * (command - s->delta_rad), -limit, limit);
     s->delta_rad = plant_clamp(s->delta_rad + change, -p->steering_angle_max, p->steering_angle_max);
-    plant_angle_trig(&s->delta_trig, s->delta_rad);
+    plant_angle_turn(&s->delta_trig, s->delta_rad);
 }
 
 void plant_planar_kinematics(PlantModel *m, PlanarKinematics *kin) {
     PlantState *s = &m->st;
-    const AngleTrig *beta = plant_angle_trig(&s->beta_trig, s->beta_rad);
+    const AngleTrig *beta = plant_angle_turn(&s->beta_trig, s->beta_rad);
     kin->cos_beta = beta->c;
     kin->sin_beta = beta->s;
     kin->cos_delta = s->delta_trig.c;
@@ -175,7 +175,7 @@ void plant_planar_step(PlantModel *m, double h, const PlanarKinematics *kin, con
     s->yaw_rad += 0.5 * h * (r + s->yaw_rate_radps);
     double course = 0.5 * ((yaw + s->yaw_rad) + (beta + s->beta_rad));
     double ds = 0.5 * (v + v_new) * h;
-    const AngleTrig *dir = plant_angle_trig(&s->course_trig, course);
+    const AngleTrig *dir = plant_angle_turn(&s->course_trig, course);
     s->x_m += ds * dir->c;
     s->y_m += ds * dir->s;
     /* across the velocity v (beta' + r); with a along it turned into the vehicle frame by the

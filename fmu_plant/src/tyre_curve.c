@@ -13,7 +13,7 @@
  * of about 1 / k, k = B max(1, C) max(1, |1 - E|) (bend below), so the spacing is
  * d = min(Q / N, 1 / (TYRE_CURVE_NODES_PER_BEND k)): the error stays below 1e-8 of the peak
  * force, and that of the slope below 1e-5 of its largest value, over the parameters' ranges
- * (tests/fmu/test_tyre_curve.py measures it against the formula; 2e-9 with the defaults). G is odd in q, so the table
+ * (tests/fmu/test_numeric_kernels.py measures it against the formula; 2e-9 with the defaults). G is odd in q, so the table
  * covers 0 <= q < N d; beyond it the formula itself is evaluated.
  *   longitudinal  q = kappa, the slip ratio, Q = 1 (every braking slip; wheelspin beyond it)
  *   lateral       q = tan(alpha) = -w / |u|, Q = 1 (slip angles up to 45 degrees): no atan2

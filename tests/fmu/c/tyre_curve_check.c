@@ -1,4 +1,4 @@
-/* tests/fmu/test_tyre_curve.py: the tabulated tyre curve (fmu_plant/src/tyre_curve.c) against
+/* tests/fmu/test_numeric_kernels.py: the tabulated tyre curve (fmu_plant/src/tyre_curve.c) against
  * the Magic Formula it tabulates. Arguments: B C E slip_angle(0|1). Prints the largest
  * differences of G (in units of the peak) and of dG/dq (relative to the largest |dG/dq|) over a
  * sweep of q across the table and beyond it, and the table's end N d. */
