@@ -20,7 +20,7 @@ DESCRIPTION = ("Planar vehicle plant: single-track lateral and yaw dynamics, ste
 INTERNAL_STEP_S = 1e-3
 #: C files compiled into the FMU, per FMI version; they and every header in src/ ship in
 #: the FMU's sources/ folder together with the generated plant_token.h
-_COMMON_C = ("variables.c", "model.c", "planar.c", "framework.c", "framework_values.c")
+_COMMON_C = ("variables.c", "model.c", "planar.c", "tyre_curve.c", "framework.c", "framework_values.c")
 SOURCE_FILES: dict[int, tuple[str, ...]] = {2: (*_COMMON_C, "fmi2_api.c"), 3: (*_COMMON_C, "fmi3_api.c")}
 #: headers and included fragments shipped in sources/ (besides plant_token.h)
 SOURCE_HEADERS: dict[int, tuple[str, ...]] = {

@@ -136,6 +136,7 @@ class ClosedLoop:
         self.gateway = Gateway(scenario.gateway, conflict_window_cycles=10 if self.ecu.realtime else 1, key=key)
         self.steering_gateway = SteeringGateway(scenario.gateway.override_timeout_s, key,
                                                 lockstep=not self.ecu.realtime)
+        self._overlay_rad = self._overlay_next_rad = 0.0  # its steer_request: this cycle's, the next one's
         self._planar = PlanarFrames()
         self.record = RunRecord(self.strategy, RunMetrics(self.strategy), columns=timeseries_columns(scenario))
         # bound once: next() of each message's E2E counter (C-level), called every cycle
@@ -186,7 +187,7 @@ class ClosedLoop:
                                    "WheelSpeedRL": min(top, max(0.0, w_rl * k)),
                                    "WheelSpeedRR": min(top, max(0.0, w_rr * k))}, self._next_wheels()),
         ]
-        out.append(self._planar.esc_of(sample.yaw_rate_radps, sample.vx_mps, sample.accel_mps2))
+        out.append(self._planar.esc_of(sample.yaw_rate_radps, sample.ay_mps2, sample.ax_mps2))
         if cycle % self.n_track == 0:
             measured = self.radar.measure()
             out.append(encode("ObjectTrack", measured.signals(), self._next_track()))
@@ -230,8 +231,8 @@ class ClosedLoop:
             else:
                 offer(msg, t_s)
         nxt = self.gateway.actuation(out.pedals, t_s, out.steering_rad)
-        # the EPS's overlay: checked and ramped every cycle; the plant's steer_request input is not wired yet
-        self.steering_gateway.steer_request_rad(t_s)
+        # the EPS's overlay, checked and ramped every cycle: the plant's steer_request from the next cycle, as nxt
+        self._overlay_rad, self._overlay_next_rad = self._overlay_next_rad, self.steering_gateway.steer_request_rad(t_s)
         self._log_cycle(t_s, out, received, applied)
         return nxt
 
@@ -258,7 +259,7 @@ class ClosedLoop:
     def _advance(self, k: int, applied: Actuation, ego: Ego) -> tuple[int, bool]:
         """Advance the plant one ECU cycle from the ego at its start; returns the new ``k`` and whether it collided."""
         plant, h, watch = self.plant, self.h_s, self.watch
-        plant.set_actuation(applied.throttle, applied.brake, applied.steering_wheel_angle_rad)
+        plant.set_actuation(applied.throttle, applied.brake, applied.steering_wheel_angle_rad, self._overlay_rad)
         span = self.n_sub * h
         watching = self._has_scene and watch.candidates(k * h, ego, span)
         if self.batch_steps and not watching:

@@ -70,10 +70,10 @@ class PlanarFrames:
         self._wheel_deg = deg
         return {"SteeringWheelAngle": deg, "SteeringWheelRate": rate}
 
-    def esc_of(self, yaw_rate_radps: float, vx_mps: float, accel_mps2: float) -> can.Message:
-        """``EscDynamics`` from the plant's motion: the lateral acceleration as vx * yaw rate (steady state; the
-        plant's own ay output is not mapped yet). Exactly 0 while nothing steers (every 1-D run)."""
-        return self.esc(EscDynamics(yaw_rate_radps, vx_mps * yaw_rate_radps, accel_mps2))
+    def esc_of(self, yaw_rate_radps: float, ay_mps2: float, ax_mps2: float) -> can.Message:
+        """``EscDynamics`` from the plant's motion in the vehicle frame (PlantSample: its ay and ax outputs, or
+        vx * yaw rate and its accel without them). Lateral exactly 0 while nothing steers (every 1-D run)."""
+        return self.esc(EscDynamics(yaw_rate_radps, ay_mps2, ax_mps2))
 
     def esc(self, esc: EscDynamics) -> can.Message:
         """``EscDynamics`` of this cycle."""

@@ -52,10 +52,15 @@ class ScenarioSection:
         return datetime.fromisoformat(self.start_time)
 
 
-INPUT_ROLES = ("throttle", "brake", "accel_command", "road_friction", "steering_wheel_angle")
+#: ``steer_request`` (rad): the ECU's road-wheel angle overlay as the steering gateway passes it on
+#: (SteeringOverride); optional: a plant without it steers by the driver's wheel alone
+INPUT_ROLES = ("throttle", "brake", "accel_command", "road_friction", "steering_wheel_angle", "steer_request")
 #: the plane: ``y`` (m) and ``yaw`` (rad) of the point whose ``position`` is mapped, ``yaw_rate`` (rad/s), and
 #: ``vx``, ``vy`` (m/s), that point's velocity in the vehicle frame; a plant without them stays on the line
-PLANAR_OUTPUT_ROLES = ("y", "yaw", "yaw_rate", "vx", "vy")
+POSE_OUTPUT_ROLES = ("y", "yaw", "yaw_rate", "vx", "vy")
+#: ``ax``, ``ay`` (m/s²): that point's acceleration in the vehicle frame, as the ESC's sensor reads it; a plant
+#: without them reports its ``accel`` and ``vx * yaw_rate`` (the steady-state lateral acceleration)
+PLANAR_OUTPUT_ROLES = (*POSE_OUTPUT_ROLES, "ax", "ay")
 OUTPUT_ROLES = ("position", "speed", "accel", "wheel_speeds", *PLANAR_OUTPUT_ROLES)
 
 BUILTIN_INPUTS = (
@@ -74,7 +79,8 @@ INITIAL_ROLES = ("speed", "y", "yaw")
 BUILTIN_INITIAL = (SignalMap("speed", ("v0",)),)
 #: the builtin plant's planar maps, added by the loader to a planar scenario only (a 1-D scenario's
 #: resolved file stays as it was; with the wheel straight the plant's y and yaw stay exactly 0)
-BUILTIN_PLANAR_INPUTS = (SignalMap("steering_wheel_angle", ("steering_wheel_angle",)),)
+BUILTIN_PLANAR_INPUTS = (SignalMap("steering_wheel_angle", ("steering_wheel_angle",)),
+                         SignalMap("steer_request", ("steer_request",)))
 BUILTIN_PLANAR_OUTPUTS = tuple(SignalMap(role, (role,)) for role in PLANAR_OUTPUT_ROLES)
 BUILTIN_PLANAR_INITIAL = (SignalMap("y", ("y0",)), SignalMap("yaw", ("yaw0",)))
 

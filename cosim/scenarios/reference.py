@@ -57,8 +57,10 @@ metres, headings counter-clockwise from x (ISO 8855, OpenDRIVE). A scenario is
 (`[plant] initial_y_m`, `initial_yaw_rad`) or an object placed or moved in the
 plane (`target_class`, `[objects.pose]`, `[objects.road_pose]`,
 `[objects.trajectory]`, `[objects.crossing]`). Then the builtin plant maps its
-planar outputs (`y`, `yaw`, `yaw_rate`, `vx`, `vy`), its steering input and
-its initial pose (`y0`, `yaw0`), the run writes `scene.json` and the pose
+planar outputs (`y`, `yaw`, `yaw_rate`, `vx`, `vy`, `ax`, `ay`), its steering
+inputs (the driver's `steering_wheel_angle` and the ECU's `steer_request`, the
+overlay the steering gateway passes on) and its initial pose (`y0`, `yaw0`),
+the run writes `scene.json` and the pose
 columns (`docs/run-format.md`), and a collision records its contact point and
 normal. The plant's pose point (builtin: the centre of gravity, about which
 the car turns) sits `[plant] cg_to_front_m` behind the front bumper; with the

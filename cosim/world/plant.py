@@ -31,7 +31,8 @@ class Plant(Protocol):
     fixed_internal_step_s: float | None
     wheel_speeds_mapped: bool  # False: every wheel speed is the vehicle speed (no ABS slip visible)
 
-    def set_actuation(self, throttle: float, brake: float, steering_wheel_angle_rad: float = 0.0) -> None: ...
+    def set_actuation(self, throttle: float, brake: float, steering_wheel_angle_rad: float = 0.0,
+                      steer_request_rad: float = 0.0) -> None: ...
 
     def step(self, t_s: float, h_s: float) -> None: ...
 
@@ -70,7 +71,7 @@ def finite_check(cfg: PlantConfig) -> Callable[[PlantSample, float], None]:
     def check(sample: PlantSample, t_s: float) -> None:
         w = sample.wheel_speeds_mps
         s = (sample.position_m + sample.speed_mps + sample.accel_mps2 + w[0] + w[1] + w[2] + w[3] + sample.y_m
-             + sample.yaw_rad + sample.yaw_rate_radps + sample.vx_mps + sample.vy_mps)
+             + sample.yaw_rad + sample.yaw_rate_radps + sample.vx_mps + sample.vy_mps + sample.ax_mps2 + sample.ay_mps2)
         if s - s != 0.0:
             _check_finite(sample, names, t_s)
 

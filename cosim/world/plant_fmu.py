@@ -28,7 +28,7 @@ from fmpy import extract
 from fmpy.fmi1 import FMICallException
 
 from ..errors import FmiStepError, MappingError, PlantError
-from ..scenarios.config import PLANAR_OUTPUT_ROLES, PlantConfig, SignalMap
+from ..scenarios.config import PLANAR_OUTPUT_ROLES, POSE_OUTPUT_ROLES, PlantConfig, SignalMap
 from .fmu_share import SHARED, file_sha256, read_md
 
 log = logging.getLogger(__name__)
@@ -47,6 +47,8 @@ class PlantSample(NamedTuple):
 
     ``y_m``, ``yaw_rad``: the pose point's y and heading; ``yaw_rate_radps``; ``vx_mps``, ``vy_mps``: its
     velocity in the vehicle frame. A plant without those outputs reports 0, 0, 0, its speed, 0.
+    ``ax_mps2``, ``ay_mps2``: its acceleration in the vehicle frame (what the ESC's sensor reads); a plant
+    without those outputs reports its ``accel`` and ``vx * yaw_rate`` (the steady-state lateral acceleration).
     A tuple: built every cycle, and about four times cheaper to build than a frozen dataclass.
     """
 
@@ -59,6 +61,8 @@ class PlantSample(NamedTuple):
     yaw_rate_radps: float
     vx_mps: float
     vy_mps: float
+    ax_mps2: float
+    ay_mps2: float
 
 
 class PlantPose(NamedTuple):
@@ -166,13 +170,14 @@ class FmuPlant:
                            tuple(wheels[n % len(wheels)] for n in range(4)))
         planar = [conv[r][0] if r in conv else None for r in PLANAR_OUTPUT_ROLES]
         self.planar_mapped = any(c is not None for c in planar)  # False: y, yaw, yaw rate, vy 0 and vx the speed
-        # pose(): the position, speed and planar outputs only, read into an array of their own
-        picked = [conv["position"][0], conv["speed"][0], *(c for c in planar if c is not None)]
+        pose, self._accel_conv = planar[:len(POSE_OUTPUT_ROLES)], tuple(planar[len(POSE_OUTPUT_ROLES):])
+        # pose(): the position, speed and pose outputs only, read into an array of their own
+        picked = [conv["position"][0], conv["speed"][0], *(c for c in pose if c is not None)]
         self._pv_vr = (ctypes.c_uint32 * len(picked))(*[self._out_vr[j] for j, _, _ in picked])
         self._pv_val = (ctypes.c_double * len(picked))()
         at = iter(range(2, len(picked)))
         # (index in read()'s array, index in pose()'s array, scale, offset) per planar role, None where unmapped
-        self._planar_conv = tuple(None if c is None else (c[0], next(at), c[1], c[2]) for c in planar)
+        self._planar_conv = tuple(None if c is None else (c[0], next(at), c[1], c[2]) for c in pose)
 
     def _open(self, start_time_s: float) -> None:
         from fmpy.fmi2 import FMU2Slave
@@ -248,8 +253,10 @@ class FmuPlant:
                        "set inputs": set_.__name__}
 
     # -- the loop -----------------------------------------------------------
-    def set_actuation(self, throttle: float, brake: float, steering_wheel_angle_rad: float = 0.0) -> None:
-        """Set the plant's inputs from throttle and brake commands (0..1) and the steering-wheel angle (rad)."""
+    def set_actuation(self, throttle: float, brake: float, steering_wheel_angle_rad: float = 0.0,
+                      steer_request_rad: float = 0.0) -> None:
+        """Set the plant's inputs from throttle and brake commands (0..1), the driver's steering-wheel angle (rad)
+        and the ECU's road-wheel angle overlay (rad, the ``steer_request`` role: optional, ignored unmapped)."""
         val = self._in_val
         for i, role, scale, offset in self._actuated:  # road friction is constant: written once, at start-up
             if role == "throttle":
@@ -258,6 +265,8 @@ class FmuPlant:
                 x = brake
             elif role == "steering_wheel_angle":
                 x = steering_wheel_angle_rad
+            elif role == "steer_request":
+                x = steer_request_rad
             else:  # accel_command
                 x = throttle * self._accel_gain - brake * self._brake_gain
             val[i] = x * scale + offset
@@ -303,9 +312,13 @@ class FmuPlant:
         a = 0.0 if accel is None else raw[accel[0]] * accel[1] + accel[2]
         v = raw[iv] * sv + ov
         wheels = (raw[j0] * s0 + o0, raw[j1] * s1 + o1, raw[j2] * s2 + o2, raw[j3] * s3 + o3)
-        if not self.planar_mapped:
-            return PlantSample(raw[ip] * sp + op, v, a, wheels, 0.0, 0.0, 0.0, v, 0.0)
-        return PlantSample(raw[ip] * sp + op, v, a, wheels, *self._planar(raw, v, 0))
+        if not self.planar_mapped:  # ay: vx * yaw rate, as below
+            return PlantSample(raw[ip] * sp + op, v, a, wheels, 0.0, 0.0, 0.0, v, 0.0, a, v * 0.0)
+        y, yaw, rate, vx, vy = self._planar(raw, v, 0)
+        cx, cy = self._accel_conv
+        return PlantSample(raw[ip] * sp + op, v, a, wheels, y, yaw, rate, vx, vy,
+                           a if cx is None else raw[cx[0]] * cx[1] + cx[2],
+                           vx * rate if cy is None else raw[cy[0]] * cy[1] + cy[2])
 
     def close(self) -> None:
         """Terminate and free the FMU; safe to call twice."""

@@ -90,9 +90,9 @@ def _serve(conn: Connection, cfg: PlantConfig, fmu_path: str) -> None:
             plant.close()
             conn.send(("closed",))
             break
-        _, t_s, h_s, throttle, brake, steering = request
+        _, t_s, h_s, throttle, brake, steering, overlay = request
         try:
-            plant.set_actuation(throttle, brake, steering)
+            plant.set_actuation(throttle, brake, steering, overlay)
             plant.step(t_s, h_s)
             sample = plant.read()
             _check_finite(sample, names, t_s + h_s)
@@ -123,7 +123,7 @@ class IsolatedPlant:
         self.sha256 = file_sha256(self.path)
         self.step_timeout_s = step_timeout_s
         self.wheel_speeds_mapped = cfg.output_map("wheel_speeds") is not None  # as FmuPlant reports it
-        self._throttle = self._brake = self._steering = 0.0
+        self._throttle = self._brake = self._steering = self._overlay = 0.0
         ours, theirs = socket.socketpair()
         with theirs:
             self._proc = subprocess.Popen([sys.executable, "-m", __name__, str(theirs.fileno())],
@@ -156,15 +156,17 @@ class IsolatedPlant:
                            time_s=t_s, status="hung" if hung else "crashed")
 
     # -- FmuPlant's interface -------------------------------------------------
-    def set_actuation(self, throttle: float, brake: float, steering_wheel_angle_rad: float = 0.0) -> None:
+    def set_actuation(self, throttle: float, brake: float, steering_wheel_angle_rad: float = 0.0,
+                      steer_request_rad: float = 0.0) -> None:
         """Kept until the next :meth:`step`, which sends it with the step."""
         self._throttle, self._brake, self._steering = throttle, brake, steering_wheel_angle_rad
+        self._overlay = steer_request_rad
 
     def step(self, t_s: float, h_s: float) -> None:
         if self._conn is None:
             raise FmiStepError(f"plant FMU process is gone at t = {t_s:.6f} s", time_s=t_s, status="closed")
         try:
-            self._conn.send(("step", t_s, h_s, self._throttle, self._brake, self._steering))
+            self._conn.send(("step", t_s, h_s, self._throttle, self._brake, self._steering, self._overlay))
         except OSError:
             pass  # a dead child shows in the reply
         reply = self._reply(self.step_timeout_s, t_s, "doStep")

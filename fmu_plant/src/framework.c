@@ -181,7 +181,7 @@ static bool outputs_finite(const PlantVariables *v) {
     return isfinite(v->x) && isfinite(v->v) && isfinite(v->a) && isfinite(v->wheel_speed_fl) &&
            isfinite(v->wheel_speed_rl) && isfinite(v->brake_pressure) && isfinite(v->drive_force) &&
            isfinite(v->y) && isfinite(v->yaw) && isfinite(v->yaw_rate) && isfinite(v->ay) &&
-           isfinite(v->vx) && isfinite(v->vy) && isfinite(v->delta);
+           isfinite(v->vx) && isfinite(v->vy) && isfinite(v->delta) && isfinite(v->ax);
 }
 
 /* Where the step ends on the grid: whole steps *end plus *end_frac_s in [0, h). A point

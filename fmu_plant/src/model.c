@@ -82,8 +82,11 @@ void plant_initialize(PlantModel *m) {
     k->cg_to_rear_axle = p->wheelbase - p->cg_to_front_axle;
     k->longitudinal = (TyreShape){p->tyre_B, p->tyre_C, p->tyre_E};
     /* B C D = the cornering stiffness per unit load: the slope at zero slip angle */
-    k->lateral = (TyreShape){p->tyre_cornering_stiffness / (p->tyre_lateral_C * p->tyre_lateral_D),
-                             p->tyre_lateral_C, p->tyre_lateral_E};
+    TyreShape lateral = {p->tyre_cornering_stiffness / (p->tyre_lateral_C * p->tyre_lateral_D),
+                         p->tyre_lateral_C, p->tyre_lateral_E};
+    plant_tyre_curve_build(&k->longitudinal_curve, &k->longitudinal, false);
+    plant_tyre_curve_build(&k->lateral, &lateral, true);
+    plant_angle_trig_set(&s->grade_trig, p->grade);
     plant_planar_initialize(m);
     plant_publish_outputs(m);
 }
@@ -106,25 +109,15 @@ static double delayed_brake(PlantState *s, double brake) {
     return out;
 }
 
-/* Magic Formula (Pacejka 2012, eq. 4.49) F = peak sin(C atan(B x - E (B x - atan(B x))))
- * and its slope dF/dx. */
-double plant_magic_formula(const TyreShape *t, double x, double peak_n, double *slope) {
-    double bk = t->B * x;
-    double phi = bk - t->E * (bk - atan(bk));
-    double dphi = t->B * (1.0 - t->E + t->E / (1.0 + bk * bk));
-    double theta = t->C * atan(phi);
-    *slope = peak_n * cos(theta) * t->C / (1.0 + phi * phi) * dphi;
-    return peak_n * sin(theta);
-}
-
 /* Axle normal loads, N, with static grade and longitudinal load transfer. */
 static void axle_loads(const PlantModel *m, double fz[PLANT_AXLES]) {
     const PlantVariables *p = &m->var;
+    const AngleTrig *grade = &m->st.grade_trig;
     double weight = p->mass * GRAVITY_MPS2;
     double lr = p->wheelbase - p->cg_to_front_axle;
-    double transfer = (p->mass * m->st.a_mps2 + weight * sin(p->grade)) * p->cg_height;
-    fz[PLANT_FRONT] = plant_clamp((weight * cos(p->grade) * lr - transfer) / p->wheelbase, 0.0, weight);
-    fz[PLANT_REAR] = plant_clamp(weight * cos(p->grade) - fz[PLANT_FRONT], 0.0, weight);
+    double transfer = (p->mass * m->st.a_mps2 + weight * grade->s) * p->cg_height;
+    fz[PLANT_FRONT] = plant_clamp((weight * grade->c * lr - transfer) / p->wheelbase, 0.0, weight);
+    fz[PLANT_REAR] = plant_clamp(weight * grade->c - fz[PLANT_FRONT], 0.0, weight);
 }
 
 /* ABS, three-phase (dump / hold / re-apply) on the braking slip -kappa:
@@ -152,6 +145,18 @@ static void abs_modulate(PlantModel *m, int axle, double kappa, double h) {
     *pa = fmin(*pa, s->pressure);
 }
 
+/* Fx at slip kappa and its slope: driving straight from the formula (the longitudinal-only
+ * plant's arithmetic), else from its table (tyre_curve.c). */
+static double longitudinal_force(const PlantModel *m, double kappa, double peak_n, double *slope) {
+    if (m->st.straight) {
+        return plant_magic_formula(&m->k.longitudinal, kappa, peak_n, slope);
+    }
+    double dg;
+    double g = plant_tyre_curve(&m->k.longitudinal_curve, kappa, &dg);
+    *slope = peak_n * dg;
+    return peak_n * g;
+}
+
 /* One axle: tyre force and linearly implicit wheel update; u_mps is the contact point's
  * forward speed in the wheel's frame (the vehicle speed while the wheel is straight).
  * f holds the axle's pure lateral force; both forces are limited together to the friction
@@ -165,7 +170,7 @@ static double axle_step(PlantModel *m, int axle, double fz_n, double u_mps, Axle
     double kappa = (w * r - u_mps) / den;
     double peak = p->road_friction * p->tyre_D * fz_n;
     double slope;
-    double fx = plant_magic_formula(&m->k.longitudinal, kappa, peak, &slope);
+    double fx = longitudinal_force(m, kappa, peak, &slope);
     if (f->fy[axle] != 0.0) {  /* with the wheel straight this is skipped: Fx as before */
         double scale = plant_friction_ellipse(m, fz_n, fx, f->fy[axle]);
         fx *= scale;
@@ -221,36 +226,58 @@ static void powertrain_and_brake_step(PlantModel *m, const LagFactors *lag, bool
     s->pressure += a_p * (s->brake_delayed - s->pressure);
 }
 
+/* The tyre forces of one step and the wheels' update; returns the force along the velocity.
+ * Driving straight, the axles' forward speeds are v and no lateral force arises: the planar
+ * kinematics and body forces are left out (their terms would be exact zeros and ones). */
+static double tyre_step(PlantModel *m, double h, PlanarKinematics *kin, AxleForces *f, BodyForces *body) {
+    double fz[PLANT_AXLES];
+    axle_loads(m, fz);
+    if (m->st.straight) {
+        *f = (AxleForces){{0.0}, {0.0}, {0.0}};
+        f->fx[PLANT_FRONT] = axle_step(m, PLANT_FRONT, fz[PLANT_FRONT], m->st.v_mps, f, h);
+        f->fx[PLANT_REAR] = axle_step(m, PLANT_REAR, fz[PLANT_REAR], m->st.v_mps, f, h);
+        return f->fx[PLANT_FRONT] + f->fx[PLANT_REAR];
+    }
+    plant_planar_kinematics(m, kin);
+    plant_lateral_forces(m, fz, kin, f);
+    f->fx[PLANT_FRONT] = axle_step(m, PLANT_FRONT, fz[PLANT_FRONT], kin->u[PLANT_FRONT], f, h);
+    f->fx[PLANT_REAR] = axle_step(m, PLANT_REAR, fz[PLANT_REAR], kin->u[PLANT_REAR], f, h);
+    *body = plant_body_forces(m, kin, f);
+    return body->along;
+}
+
 void plant_step(PlantModel *m, double h, bool enters_cell) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
     LagFactors lag = lag_factors(m, h);
     plant_steering_step(m, h, lag.steer);
     powertrain_and_brake_step(m, &lag, enters_cell);
-    double fz[PLANT_AXLES];
-    axle_loads(m, fz);
+    const AngleTrig *grade = plant_angle_trig(&s->grade_trig, p->grade);
+    s->straight = plant_planar_is_straight(m);
     PlanarKinematics kin;
-    plant_planar_kinematics(m, &kin);
     AxleForces f;
-    plant_lateral_forces(m, fz, &kin, &f);
-    f.fx[PLANT_FRONT] = axle_step(m, PLANT_FRONT, fz[PLANT_FRONT], kin.u[PLANT_FRONT], &f, h);
-    f.fx[PLANT_REAR] = axle_step(m, PLANT_REAR, fz[PLANT_REAR], kin.u[PLANT_REAR], &f, h);
-    BodyForces body = plant_body_forces(m, &kin, &f);
+    BodyForces body;
+    double along = tyre_step(m, h, &kin, &f, &body);
     double v = s->v_mps;
     double f_aero = 0.5 * p->air_density * p->drag_area * v * v;
-    double f_grade = p->mass * GRAVITY_MPS2 * sin(p->grade);
-    double f_roll = p->rolling_resistance * p->mass * GRAVITY_MPS2 * cos(p->grade);
+    double f_grade = p->mass * GRAVITY_MPS2 * grade->s;
+    double f_roll = p->rolling_resistance * p->mass * GRAVITY_MPS2 * grade->c;
     /* Rolling resistance is Coulomb-like: it stops the car but never reverses it. */
-    double v_new = v + h * (body.along - f_aero - f_grade) / p->mass;
+    double v_new = v + h * (along - f_aero - f_grade) / p->mass;
     v_new = v_new > 0.0 ? fmax(0.0, v_new - h * f_roll / p->mass) : 0.0;
     s->a_mps2 = (v_new - v) / h;
-    plant_planar_step(m, h, &kin, &body, &f, v_new);
+    if (s->straight) {
+        plant_straight_step(m, h, v_new);
+    } else {
+        plant_planar_step(m, h, &kin, &body, &f, v_new);
+    }
     s->v_mps = v_new;
 }
 
 void plant_publish_outputs(PlantModel *m) {
     PlantVariables *p = &m->var;
-    const PlantState *s = &m->st;
+    PlantState *s = &m->st;
+    const AngleTrig *beta = plant_angle_turn(&s->beta_trig, s->beta_rad);
     p->x = s->x_m;
     p->v = s->v_mps;
     p->a = s->a_mps2;
@@ -264,7 +291,8 @@ void plant_publish_outputs(PlantModel *m) {
     p->yaw = s->yaw_rad;
     p->yaw_rate = s->yaw_rate_radps;
     p->ay = s->ay_mps2;
-    p->vx = s->v_mps * cos(s->beta_rad);
-    p->vy = s->v_mps * sin(s->beta_rad);
+    p->ax = s->ax_mps2;
+    p->vx = s->v_mps * beta->c;
+    p->vy = s->v_mps * beta->s;
     p->delta = s->delta_rad;
 }

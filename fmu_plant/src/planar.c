@@ -24,14 +24,26 @@
 /* Below this speed the body moves kinematically: CommonRoad ST switches at |v| < 0.1 m/s. */
 #define KINEMATIC_SPEED_MPS 0.1
 
-/* Sideslip at the centre of gravity of a car rolling without lateral slip. */
-static double kinematic_sideslip(const PlantModel *m, double delta) {
-    return atan(m->k.cg_to_rear_axle * tan(delta) / m->var.wheelbase);
+/* Sideslip at the centre of gravity of a car rolling without lateral slip, at the road-wheel
+ * angle of delta_trig (tan = sin / cos: |delta| < pi / 2). */
+static double kinematic_sideslip(const PlantModel *m) {
+    const AngleTrig *d = &m->st.delta_trig;
+    return atan(m->k.cg_to_rear_axle * (d->s / d->c) / m->var.wheelbase);
 }
 
-/* Yaw rate of a car rolling without lateral slip. */
-static double kinematic_yaw_rate(const PlantModel *m, double v, double beta, double delta) {
-    return v * cos(beta) * tan(delta) / m->var.wheelbase;
+/* Yaw rate of a car rolling without lateral slip at speed v, at the sideslip and road-wheel
+ * angle of beta_trig and delta_trig. */
+static double kinematic_yaw_rate(const PlantModel *m, double v) {
+    const AngleTrig *d = &m->st.delta_trig;
+    return v * m->st.beta_trig.c * (d->s / d->c) / m->var.wheelbase;
+}
+
+/* The body rolling without lateral slip at speed v: sideslip and yaw rate from the road wheel. */
+static void kinematic_motion(PlantModel *m, double v) {
+    PlantState *s = &m->st;
+    s->beta_rad = kinematic_sideslip(m);
+    plant_angle_turn(&s->beta_trig, s->beta_rad);
+    s->yaw_rate_radps = kinematic_yaw_rate(m, v);
 }
 
 /* The driver's steering-wheel angle through the steering ratio plus the ECU's overlay, limited. */
@@ -43,34 +55,32 @@ static double steering_command(const PlantVariables *p) {
 void plant_planar_initialize(PlantModel *m) {
     PlantState *s = &m->st;
     s->delta_rad = steering_command(&m->var);
-    s->beta_rad = kinematic_sideslip(m, s->delta_rad);
-    s->yaw_rate_radps = kinematic_yaw_rate(m, s->v_mps, s->beta_rad, s->delta_rad);
+    plant_angle_trig_set(&s->delta_trig, s->delta_rad);
+    plant_angle_trig_set(&s->beta_trig, 0.0);
+    kinematic_motion(m, s->v_mps);
+    plant_angle_trig_set(&s->course_trig, s->yaw_rad + s->beta_rad);
 }
 
 void plant_steering_step(PlantModel *m, double h, double a_steer) {
     const PlantVariables *p = &m->var;
     PlantState *s = &m->st;
-    double limit = p->steering_rate_max * h;
-    double change = plant_clamp(a_steer * (steering_command(p) - s->delta_rad), -limit, limit);
-    s->delta_rad = plant_clamp(s->delta_rad + change, -p->steering_angle_max, p->steering_angle_max);
-}
-
-/* cos and sin of an angle; of 0 without a call (the values the call would give): while the car
- * drives straight its sideslip and road-wheel angles are exactly 0. */
-static void cos_sin(double angle, double *c, double *s) {
-    if (angle == 0.0) {
-        *c = 1.0;
-        *s = angle;
-        return;
+    double command = steering_command(p);
+    if (command == s->delta_rad) {
+        return;  /* the wheel is where it is told to be */
     }
-    *c = cos(angle);
-    *s = sin(angle);
+    double limit = p->steering_rate_max * h;
+    double change = plant_clamp(a_steer * (command - s->delta_rad), -limit, limit);
+    s->delta_rad = plant_clamp(s->delta_rad + change, -p->steering_angle_max, p->steering_angle_max);
+    plant_angle_turn(&s->delta_trig, s->delta_rad);
 }
 
-void plant_planar_kinematics(const PlantModel *m, PlanarKinematics *kin) {
-    const PlantState *s = &m->st;
-    cos_sin(s->beta_rad, &kin->cos_beta, &kin->sin_beta);
-    cos_sin(s->delta_rad, &kin->cos_delta, &kin->sin_delta);
+void plant_planar_kinematics(PlantModel *m, PlanarKinematics *kin) {
+    PlantState *s = &m->st;
+    const AngleTrig *beta = plant_angle_turn(&s->beta_trig, s->beta_rad);
+    kin->cos_beta = beta->c;
+    kin->sin_beta = beta->s;
+    kin->cos_delta = s->delta_trig.c;
+    kin->sin_delta = s->delta_trig.s;
     double u = s->v_mps * kin->cos_beta;  /* the body's velocity at its centre of gravity */
     double w = s->v_mps * kin->sin_beta;
     double w_front = w + m->var.cg_to_front_axle * s->yaw_rate_radps;
@@ -95,9 +105,8 @@ void plant_lateral_forces(const PlantModel *m, const double fz_n[PLANT_AXLES], c
             f->fy_slope[axle] = m->var.tyre_cornering_stiffness * m->var.road_friction * fz_n[axle];
             continue;
         }
-        double alpha = atan2(-kin->w[axle], fabs(kin->u[axle]));
-        double slope;
-        f->fy[axle] = plant_magic_formula(&m->k.lateral, alpha, peak, &slope);
+        double slope;  /* the slip angle alpha = atan2(-w, |u|) through the tabulated curve */
+        f->fy[axle] = plant_lateral_tyre_force(&m->k.lateral, kin->w[axle], fabs(kin->u[axle]), peak, &slope);
         f->fy_slope[axle] = fmax(slope, 0.0);
     }
 }
@@ -159,20 +168,34 @@ void plant_planar_step(PlantModel *m, double h, const PlanarKinematics *kin, con
     PlantState *s = &m->st;
     double v = s->v_mps, beta = s->beta_rad, yaw = s->yaw_rad, r = s->yaw_rate_radps;
     if (v < KINEMATIC_SPEED_MPS) {
-        s->beta_rad = kinematic_sideslip(m, s->delta_rad);
-        s->yaw_rate_radps = kinematic_yaw_rate(m, v_new, s->beta_rad, s->delta_rad);
+        kinematic_motion(m, v_new);
     } else {
         dynamic_step(m, h, b, f);
     }
     s->yaw_rad += 0.5 * h * (r + s->yaw_rate_radps);
     double course = 0.5 * ((yaw + s->yaw_rad) + (beta + s->beta_rad));
     double ds = 0.5 * (v + v_new) * h;
-    double c, sn;
-    cos_sin(course, &c, &sn);
-    s->x_m += ds * c;
-    s->y_m += ds * sn;
-    /* across the velocity v (beta' + r); in the vehicle frame with the along-track part (the
-     * sideslip of the step's start) */
+    const AngleTrig *dir = plant_angle_turn(&s->course_trig, course);
+    s->x_m += ds * dir->c;
+    s->y_m += ds * dir->s;
+    /* across the velocity v (beta' + r); with a along it turned into the vehicle frame by the
+     * sideslip of the step's start: ay across the car, ax along it */
     double a_across = 0.5 * (v + v_new) * ((s->beta_rad - beta) + (s->yaw_rad - yaw)) / h;
     s->ay_mps2 = s->a_mps2 * kin->sin_beta + a_across * kin->cos_beta;
+    s->ax_mps2 = s->a_mps2 * kin->cos_beta - a_across * kin->sin_beta;
+}
+
+bool plant_planar_is_straight(const PlantModel *m) {
+    const PlantState *s = &m->st;
+    return s->delta_rad == 0.0 && s->beta_rad == 0.0 && s->yaw_rate_radps == 0.0;
+}
+
+void plant_straight_step(PlantModel *m, double h, double v_new) {
+    PlantState *s = &m->st;
+    double ds = 0.5 * (s->v_mps + v_new) * h;
+    const AngleTrig *dir = plant_angle_trig(&s->course_trig, s->yaw_rad);
+    s->x_m += ds * dir->c;
+    s->y_m += ds * dir->s;
+    s->ay_mps2 = 0.0;
+    s->ax_mps2 = s->a_mps2;
 }

@@ -29,7 +29,7 @@ PINNED_VRS = {
     "brake_release_time_constant_fraction": 57,
     # planar (issue 21)
     "steering_wheel_angle": 5, "steer_request": 6, "y": 19, "yaw": 20, "yaw_rate": 21, "ay": 22, "vx": 23,
-    "vy": 24, "delta": 25, "yaw_inertia": 58, "tyre_cornering_stiffness": 59, "tyre_lateral_C": 60,
+    "vy": 24, "delta": 25, "ax": 26, "yaw_inertia": 58, "tyre_cornering_stiffness": 59, "tyre_lateral_C": 60,
     "tyre_lateral_E": 61, "steering_ratio": 62, "steering_time_constant": 63, "steering_angle_max": 64,
     "steering_rate_max": 65, "y0": 66, "yaw0": 67, "tyre_lateral_D": 68,
 }
