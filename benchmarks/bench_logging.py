@@ -20,8 +20,11 @@ Printed per strategy (medians over the rounds, min..max):
 * ``ratio (to logs closed)``: the same, over the whole call each (the plant loaded, the run,
   and for crd run every log written and closed): logging that finishes after the loop is
   charged too;
-* ``ratio (CPU time)``: the same over the CPU time of this process (all its threads): what the
-  logging costs in all, wherever it runs; a shared machine disturbs it less than the wall time;
+* ``ratio (CPU time)``: the same over the CPU time of this process (all its threads, so the
+  logging thread's work too): what the logging costs in all, wherever it runs; a shared machine
+  disturbs it less than the wall time. The x real over CPU time of each side is printed too;
+* the load average (1 min) before the first and after the last round, and its highest value
+  seen between rounds: on a shared machine, read the wall-time figures with it;
 * ``--with-report``: also ``run_strategies`` (report, plots, ``metrics.json``, config) over
   the loop's whole call, for information: the plots are a fixed cost of about a second.
 """
@@ -29,6 +32,7 @@ Printed per strategy (medians over the rounds, min..max):
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import sys
 import tempfile
@@ -85,22 +89,27 @@ def one_round(sc, fmu: Path, strategies, figures: dict, with_report: bool, loop_
             figures.setdefault((strategy, "ratio"), []).append(run_x / loop_x)
             figures.setdefault((strategy, "ratio closed"), []).append(run_total_x / loop_total_x)
             figures.setdefault((strategy, "ratio cpu"), []).append(run_cpu_x / loop_cpu_x)
+            figures.setdefault((strategy, "loop cpu"), []).append(loop_cpu_x)
+            figures.setdefault((strategy, "run cpu"), []).append(run_cpu_x)
             if with_report:
                 command_x = whole_command(sc, strategy, Path(tmp) / "command")
                 figures.setdefault((strategy, "ratio command"), []).append(command_x / loop_total_x)
 
 
-def report(figures: dict, strategies, rounds: int, with_report: bool) -> None:
+def report(figures: dict, strategies, rounds: int, with_report: bool, loads: list[float]) -> None:
     columns = [("loop x real", "loop", "{:.0f}"), ("crd run x real", "run", "{:.0f}"),
+               ("loop x real (CPU)", "loop cpu", "{:.0f}"), ("crd run x real (CPU)", "run cpu", "{:.0f}"),
                ("ratio (metrics)", "ratio", "{:.3f}"), ("ratio (to logs closed)", "ratio closed", "{:.3f}"),
                ("ratio (CPU time)", "ratio cpu", "{:.3f}")]
     if with_report:
         columns.append(("ratio (with report)", "ratio command", "{:.3f}"))
     print(f"medians over {rounds} alternating rounds (min..max); crd run = the default logs (can.blf, timeseries.csv, "
           "events.json)")
-    print(f"{'strategy':<13}" + "".join(f"{title:>26}" for title, _, _ in columns))
+    print(f"load average (1 min): {loads[0]:.2f} before, {loads[-1]:.2f} after, {max(loads):.2f} at most "
+          f"(between rounds; {os.cpu_count()} cores)")
+    print(f"{'strategy':<13}" + "".join(f"{title:>24}" for title, _, _ in columns))
     for s in strategies:
-        print(f"{s:<13}" + "".join(f"{_spread(figures[(s, key)], fmt):>26}" for _, key, fmt in columns))
+        print(f"{s:<13}" + "".join(f"{_spread(figures[(s, key)], fmt):>24}" for _, key, fmt in columns))
     worst = min(strategies, key=lambda s: statistics.median(figures[(s, "ratio")]))
     print(f"lowest ratio ({worst}): crd run / loop only = {statistics.median(figures[(worst, 'ratio')]):.3f} by "
           f"metrics.json's wall time, {statistics.median(figures[(worst, 'ratio closed')]):.3f} to the logs closed, "
@@ -120,9 +129,11 @@ def main() -> None:
         loop_only(sc, fmu, "none")
         crd_run(sc, fmu, "none", Path(tmp) / "warm")
     figures: dict = {}
+    loads = [os.getloadavg()[0]]
     for round_ in range(max(1, args.repeat)):
         one_round(sc, fmu, strategies, figures, args.with_report, loop_first=round_ % 2 == 0)
-    report(figures, strategies, max(1, args.repeat), args.with_report)
+        loads.append(os.getloadavg()[0])
+    report(figures, strategies, max(1, args.repeat), args.with_report, loads)
 
 
 if __name__ == "__main__":
