@@ -43,6 +43,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_cosim import _spread, closed_loop_s  # noqa: E402 - the loop-only figure, as bench_cosim measures it
 
+import cosim  # noqa: E402
 from cosim.cli.paper import PAPER_SCENARIO  # noqa: E402
 from cosim.loop.experiment import _run_one, resolve_fmu, run_strategies  # noqa: E402
 from cosim.results.can_logs import check_can_logs  # noqa: E402
@@ -105,6 +106,7 @@ def report(figures: dict, strategies, rounds: int, with_report: bool, loads: lis
         columns.append(("ratio (with report)", "ratio command", "{:.3f}"))
     print(f"medians over {rounds} alternating rounds (min..max); crd run = the default logs (can.blf, timeseries.csv, "
           "events.json)")
+    print(f"crd from {Path(cosim.__file__).parent.parent}")
     print(f"load average (1 min): {loads[0]:.2f} before, {loads[-1]:.2f} after, {max(loads):.2f} at most "
           f"(between rounds; {os.cpu_count()} cores)")
     print(f"{'strategy':<13}" + "".join(f"{title:>24}" for title, _, _ in columns))
