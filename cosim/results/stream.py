@@ -9,9 +9,10 @@
   (all but MF4, which asammdf writes at the end) as the run goes:
   :meth:`RunStream.flush` (called every 100 ECU cycles, i.e. every simulated
   second) appends the rows and frames recorded since the last
-  call and hands them to the operating system (from its writing thread, at most
-  :data:`~cosim.results.log_thread.QUEUE_DEPTH` seconds behind), so a run killed at
-  any moment leaves its files complete up to a recent simulated second. :meth:`close`
+  call and hands them to the operating system (from its writing thread, behind by
+  the :data:`~cosim.results.log_thread.QUEUE_DEPTH` seconds queued and the one being
+  written at most), so a run killed at any moment (even SIGKILL) leaves its files
+  complete up to a recent simulated second. :meth:`close`
   writes the rest and closes the files (the BLF header gets its statistics).
   The rows and frames stay in the :class:`RunRecord` too (the metrics, plots
   and tests use them).
