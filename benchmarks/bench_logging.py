@@ -20,8 +20,17 @@ Printed per strategy (medians over the rounds, min..max):
 * ``ratio (to logs closed)``: the same, over the whole call each (the plant loaded, the run,
   and for crd run every log written and closed): logging that finishes after the loop is
   charged too;
-* ``ratio (CPU time)``: the same over the CPU time of this process (all its threads): what the
-  logging costs in all, wherever it runs; a shared machine disturbs it less than the wall time;
+* ``ratio (CPU time)``: the same over the CPU time of this process (all its threads, so the
+  logging thread's work too): what the logging costs in all, wherever it runs; a shared machine
+  disturbs it less than the wall time. The x real over CPU time of each side is printed too;
+* ``logging CPU``: CPU time (ms per simulated second) of the logging itself, timed inside the run by
+  thread (``time.thread_time``): in the loop's thread (``RunStream.flush``, ``_stop_all``: the whole
+  writing before the logging thread, the hand-over after) and in the writing thread (``RunStream._write``,
+  where it exists); next to it the loop's own CPU time per simulated second. It does not depend on
+  how busy the machine is nearly as much as the ratios do; the writing thread's share runs beside the
+  loop where it releases the GIL (zlib, the writes) and a core is free;
+* the load average (1 min) before the first and after the last round, and its highest value
+  seen between rounds: on a shared machine, read the wall-time figures with it;
 * ``--with-report``: also ``run_strategies`` (report, plots, ``metrics.json``, config) over
   the loop's whole call, for information: the plots are a fixed cost of about a second.
 """
@@ -29,6 +38,7 @@ Printed per strategy (medians over the rounds, min..max):
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import sys
 import tempfile
@@ -39,9 +49,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_cosim import _spread, closed_loop_s  # noqa: E402 - the loop-only figure, as bench_cosim measures it
 
+import cosim  # noqa: E402
 from cosim.cli.paper import PAPER_SCENARIO  # noqa: E402
 from cosim.loop.experiment import _run_one, resolve_fmu, run_strategies  # noqa: E402
 from cosim.results.can_logs import check_can_logs  # noqa: E402
+from cosim.results.stream import RunStream  # noqa: E402
 from cosim.scenarios.loader import load_scenario  # noqa: E402
 
 STRATEGIES = ("none", "conservative", "tightening")
@@ -54,14 +66,48 @@ def loop_only(sc, fmu: Path, strategy: str) -> tuple[float, float, float]:
     return sim_s / wall_s, sim_s / (time.perf_counter() - t0), sim_s / (time.process_time() - c0)
 
 
-def crd_run(sc, fmu: Path, strategy: str, out: Path) -> tuple[float, float, float]:
+class LoggingCpu:
+    """Within the block, the CPU time (``time.thread_time``) spent in :class:`RunStream`'s writing, by thread:
+    :attr:`loop_s` in ``flush`` and ``_stop_all`` (the loop's thread), :attr:`writer_s` in ``_write`` (the
+    writing thread, where the stream has one)."""
+
+    WRAPPED = {"flush": "loop_s", "_stop_all": "loop_s", "_write": "writer_s"}
+
+    def __enter__(self) -> LoggingCpu:
+        self.loop_s = self.writer_s = 0.0
+        self._saved = {name: getattr(RunStream, name) for name in self.WRAPPED if hasattr(RunStream, name)}
+        for name, fn in self._saved.items():
+            setattr(RunStream, name, self._timed(fn, self.WRAPPED[name]))
+        return self
+
+    def _timed(self, fn, total: str):
+        def timed(*args, **kwargs):
+            c0 = time.thread_time()
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                setattr(self, total, getattr(self, total) + time.thread_time() - c0)
+        return timed
+
+    def __exit__(self, *exc) -> None:
+        for name, fn in self._saved.items():
+            setattr(RunStream, name, fn)
+
+
+def crd_run(sc, fmu: Path, strategy: str, out: Path) -> tuple[float, ...]:
     """x real of crd run's run with the default logs: by metrics.json's wall_time_s, over the whole
-    call's wall time and over its CPU time (every thread of this process)."""
-    t0, c0 = time.perf_counter(), time.process_time()
-    record = _run_one(sc, fmu, strategy, out, check_can_logs([]), None, None, plot=False)
-    total_s, cpu_s = time.perf_counter() - t0, time.process_time() - c0
+    call's wall time and over its CPU time (every thread of this process); then the logging's CPU time
+    in the loop's thread and in the writing thread, and the loop thread's CPU time but the logging's, in
+    ms per simulated second."""
+    with LoggingCpu() as logging_cpu:
+        t0, c0, l0 = time.perf_counter(), time.process_time(), time.thread_time()
+        record = _run_one(sc, fmu, strategy, out, check_can_logs([]), None, None, plot=False)
+        total_s, cpu_s, loop_cpu_s = time.perf_counter() - t0, time.process_time() - c0, time.thread_time() - l0
     m = record.metrics
-    return m.sim_time_s / m.wall_time_s, m.sim_time_s / total_s, m.sim_time_s / cpu_s
+    per_sim_s = 1e3 / m.sim_time_s
+    return (m.sim_time_s / m.wall_time_s, m.sim_time_s / total_s, m.sim_time_s / cpu_s,
+            logging_cpu.loop_s * per_sim_s, logging_cpu.writer_s * per_sim_s,
+            (loop_cpu_s - logging_cpu.loop_s) * per_sim_s)
 
 
 def whole_command(sc, strategy: str, out: Path) -> float:
@@ -77,7 +123,7 @@ def one_round(sc, fmu: Path, strategies, figures: dict, with_report: bool, loop_
         with tempfile.TemporaryDirectory() as tmp:
             if loop_first:
                 loop_x, loop_total_x, loop_cpu_x = loop_only(sc, fmu, strategy)
-            run_x, run_total_x, run_cpu_x = crd_run(sc, fmu, strategy, Path(tmp) / "run")
+            run_x, run_total_x, run_cpu_x, *logging_ms = crd_run(sc, fmu, strategy, Path(tmp) / "run")
             if not loop_first:
                 loop_x, loop_total_x, loop_cpu_x = loop_only(sc, fmu, strategy)
             figures.setdefault((strategy, "loop"), []).append(loop_x)
@@ -85,22 +131,37 @@ def one_round(sc, fmu: Path, strategies, figures: dict, with_report: bool, loop_
             figures.setdefault((strategy, "ratio"), []).append(run_x / loop_x)
             figures.setdefault((strategy, "ratio closed"), []).append(run_total_x / loop_total_x)
             figures.setdefault((strategy, "ratio cpu"), []).append(run_cpu_x / loop_cpu_x)
+            figures.setdefault((strategy, "loop cpu"), []).append(loop_cpu_x)
+            figures.setdefault((strategy, "run cpu"), []).append(run_cpu_x)
+            for key, ms in zip(("log loop ms", "log writer ms", "loop ms"), logging_ms):
+                figures.setdefault((strategy, key), []).append(ms)
             if with_report:
                 command_x = whole_command(sc, strategy, Path(tmp) / "command")
                 figures.setdefault((strategy, "ratio command"), []).append(command_x / loop_total_x)
 
 
-def report(figures: dict, strategies, rounds: int, with_report: bool) -> None:
+def report(figures: dict, strategies, rounds: int, with_report: bool, loads: list[float]) -> None:
     columns = [("loop x real", "loop", "{:.0f}"), ("crd run x real", "run", "{:.0f}"),
+               ("loop x real (CPU)", "loop cpu", "{:.0f}"), ("crd run x real (CPU)", "run cpu", "{:.0f}"),
                ("ratio (metrics)", "ratio", "{:.3f}"), ("ratio (to logs closed)", "ratio closed", "{:.3f}"),
                ("ratio (CPU time)", "ratio cpu", "{:.3f}")]
     if with_report:
         columns.append(("ratio (with report)", "ratio command", "{:.3f}"))
     print(f"medians over {rounds} alternating rounds (min..max); crd run = the default logs (can.blf, timeseries.csv, "
           "events.json)")
-    print(f"{'strategy':<13}" + "".join(f"{title:>26}" for title, _, _ in columns))
+    print(f"crd from {Path(cosim.__file__).parent.parent}")
+    print(f"load average (1 min): {loads[0]:.2f} before, {loads[-1]:.2f} after, {max(loads):.2f} at most "
+          f"(between rounds; {os.cpu_count()} cores)")
+    print(f"{'strategy':<13}" + "".join(f"{title:>24}" for title, _, _ in columns))
     for s in strategies:
-        print(f"{s:<13}" + "".join(f"{_spread(figures[(s, key)], fmt):>26}" for _, key, fmt in columns))
+        print(f"{s:<13}" + "".join(f"{_spread(figures[(s, key)], fmt):>24}" for _, key, fmt in columns))
+    print("CPU ms per simulated second in crd run (medians): logging in the loop's thread + in the writing thread; "
+          "the loop's thread without its logging")
+    for s in strategies:
+        loop_ms, writer_ms, rest_ms = (statistics.median(figures[(s, k)]) for k in
+                                       ("log loop ms", "log writer ms", "loop ms"))
+        print(f"{s:<13}logging {loop_ms:6.2f} + {writer_ms:6.2f} ms, loop {rest_ms:7.1f} ms: logging "
+              f"{loop_ms / rest_ms:.1%} + {writer_ms / rest_ms:.1%} of the loop's CPU time")
     worst = min(strategies, key=lambda s: statistics.median(figures[(s, "ratio")]))
     print(f"lowest ratio ({worst}): crd run / loop only = {statistics.median(figures[(worst, 'ratio')]):.3f} by "
           f"metrics.json's wall time, {statistics.median(figures[(worst, 'ratio closed')]):.3f} to the logs closed, "
@@ -120,9 +181,11 @@ def main() -> None:
         loop_only(sc, fmu, "none")
         crd_run(sc, fmu, "none", Path(tmp) / "warm")
     figures: dict = {}
+    loads = [os.getloadavg()[0]]
     for round_ in range(max(1, args.repeat)):
         one_round(sc, fmu, strategies, figures, args.with_report, loop_first=round_ % 2 == 0)
-    report(figures, strategies, max(1, args.repeat), args.with_report)
+        loads.append(os.getloadavg()[0])
+    report(figures, strategies, max(1, args.repeat), args.with_report, loads)
 
 
 if __name__ == "__main__":

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import importlib.util
 from datetime import datetime
+from operator import itemgetter
 from pathlib import Path, PurePath
 from typing import Iterable, Sequence
 
@@ -92,6 +93,9 @@ _BLF_CONSTANTS = {"signature": b"LOBJ", "header_size": 32, "header_version": 1, 
                   "message_flags": 0, "dlc": 8}  # CAN_MESSAGE, TIME_ONE_NANS, channel 0 + 1, received, DLC 8
 
 
+#: a logged frame's fields (:class:`LoggedFrame`: t_s, arbitration_id, data)
+_T_S, _ID, _DATA = itemgetter(0), itemgetter(1), itemgetter(2)
+
 #: zlib level of the BLF containers: 1 (Z_BEST_SPEED) compresses a run's frames about four times
 #: faster than python-can's default 6 (5.8 instead of 23.5 ms for the paper run's 26,000 frames,
 #: timeit) into a file 7.5 % larger (273 instead of 254 kB); every reader inflates either the same
@@ -120,20 +124,27 @@ class FrameBlfWriter(can.BLFWriter):
         self.add_objects(self.objects(frames, start_s))
 
     def objects(self, frames: Sequence[LoggedFrame], start_s: float) -> bytes:
-        """``frames`` as BLF objects, counted, the header's time span moved (as ``_add_object`` does); not yet logged."""
-        if not frames:
+        """``frames`` as BLF objects, counted, the header's time span moved (as ``_add_object`` does); not yet logged.
+
+        Each field is read with ``map(itemgetter(i), frames)`` into numpy, never ``zip(*frames)``: that
+        made an iterator per frame, tracked by the garbage collector, and the collections they set
+        off walked the run's young frames (in a run, 5 of the 5.5 ms this took per simulated second).
+        """
+        n = len(frames)
+        if not n:
             return b""
-        t_s, ids, payloads = zip(*frames)
-        stamps = start_s + np.array(t_s, dtype=np.float64)  # the same IEEE additions as start_s + f.t_s
+        t_s = np.fromiter(map(_T_S, frames), dtype=np.float64, count=n)
+        stamps = start_s + t_s  # the same IEEE additions as start_s + f.t_s
         if self.start_timestamp is None:  # as BLFWriter._add_object: the first stamp, to the millisecond
             self.start_timestamp = int(float(stamps[0]) * 1000) / 1000
         self.stop_timestamp = float(stamps[-1])
-        self.object_count += len(frames)
-        objects = np.empty(len(frames), dtype=_BLF_OBJECT)
+        self.object_count += n
+        objects = np.empty(n, dtype=_BLF_OBJECT)
         for name, value in _BLF_CONSTANTS.items():
             objects[name] = value
         objects["time_ns"] = np.maximum(((stamps - self.start_timestamp) * 1e9).astype(np.int64), 0)
-        objects["arbitration_id"] = ids
+        objects["arbitration_id"] = np.fromiter(map(_ID, frames), dtype=np.int64, count=n)
+        payloads = list(map(_DATA, frames))
         if set(map(len, payloads)) == {8}:  # every frame of the contract
             objects["data"] = np.frombuffer(b"".join(payloads), dtype="S8")
         else:  # python-can's "8s" pads and cuts; the DLC stays the frame's length

@@ -9,18 +9,23 @@
   (all but MF4, which asammdf writes at the end) as the run goes:
   :meth:`RunStream.flush` (called every 100 ECU cycles, i.e. every simulated
   second) appends the rows and frames recorded since the last
-  call and hands them to the operating system, so a run killed at any moment
-  leaves its files complete up to the last simulated second. :meth:`close`
+  call and hands them to the operating system (from its writing thread, behind by
+  the :data:`~cosim.results.log_thread.QUEUE_DEPTH` seconds queued and the one being
+  written at most), so a run killed at any moment (even SIGKILL) leaves its files
+  complete up to a recent simulated second. :meth:`close`
   writes the rest and closes the files (the BLF header gets its statistics).
   The rows and frames stay in the :class:`RunRecord` too (the metrics, plots
   and tests use them).
 
-What it costs (issue 25; ``benchmarks/bench_logging.py``): the BLF gets each
-batch of frames as one array of BLF objects, no ``can.Message`` per frame, and
-compresses its containers at zlib level 1
-(:class:`~cosim.results.can_logs.FrameBlfWriter`); the time series is
-formatted with one ``%`` per row (:func:`~cosim.results.writer.timeseries_lines`).
-Other log formats take python-can's writers frame by frame, as before.
+What it costs (issue 25; ``benchmarks/bench_logging.py``): :meth:`RunStream.flush` only hands
+the new rows and frames (slices of the record) to a :class:`~cosim.results.log_thread.LogThread`,
+which formats, packs, compresses and writes them on a background thread, in order, from a bounded
+queue; :meth:`close` waits until everything handed over is written. The BLF gets each batch of
+frames as one array of BLF objects, no ``can.Message`` per frame, and compresses its containers at
+zlib level 1 (:class:`~cosim.results.can_logs.FrameBlfWriter`); the time series is formatted with
+one ``%`` per row (:func:`~cosim.results.writer.timeseries_lines`). Other log formats take
+python-can's writers frame by frame, on the same thread. The files are byte for byte those the
+loop's own thread wrote (``tests/cosim/test_log_thread.py``).
 """
 
 from __future__ import annotations
@@ -37,6 +42,7 @@ from can.io.generic import FileIOMessageWriter
 from ..errors import ConfigError
 from .can_logs import FrameBlfWriter, open_python_can_writer, streamed, write_can_logs
 from .held_signals import signals_held
+from .log_thread import LogThread
 from .run_record import TIMESERIES_COLUMNS, RunRecord
 from .writer import timeseries_lines
 
@@ -80,30 +86,36 @@ class RunStream:
                     self._writers.append(open_python_can_writer(run_dir / name, start))
             self._blf = [w for w in self._writers if isinstance(w, FrameBlfWriter)]  # BLF: in bulk
             self._per_message = [w.on_message_received for w in self._writers if not isinstance(w, FrameBlfWriter)]
+            self._thread: LogThread[tuple[list, list, tuple]] = LogThread(self._write, str(run_dir))
         except BaseException:
             self._stop_all()
             raise
         self.closed = False
 
     def flush(self, record: RunRecord) -> None:
-        """Write ``record``'s rows and frames added since the last call and pass them to the OS.
+        """Hand ``record``'s rows and frames added since the last call to the writing thread, which writes
+        them and passes them to the OS; raises :class:`~cosim.results.log_thread.LogWriteError` if a write failed.
 
-        A signal meanwhile is held until the write is whole (:mod:`cosim.results.held_signals`).
+        A signal meanwhile is held until the hand-over is whole (:mod:`cosim.results.held_signals`).
         """
         with signals_held():
-            self._write_new(record)
+            self._hand_over(record)
 
-    def _write_new(self, record: RunRecord) -> None:
-        rows = record.rows
-        self._csv_file.write(timeseries_lines(rows[self._rows:], record.columns))
-        self._rows = len(rows)
-        frames, start_s = record.frames, self._start_s
-        new = frames[self._frames:]
-        self._frames = len(frames)
+    def _hand_over(self, record: RunRecord) -> None:
+        rows, frames = record.rows, record.frames
+        batch = (rows[self._rows:], frames[self._frames:], record.columns)  # new lists of the same rows and frames
+        self._rows, self._frames = len(rows), len(frames)
+        self._thread.put(batch)
+
+    def _write(self, batch: tuple[list, list, tuple]) -> None:
+        """On the writing thread: one batch of rows and frames into every file, passed to the OS."""
+        rows, frames, columns = batch
+        start_s = self._start_s
+        self._csv_file.write(timeseries_lines(rows, columns))
         for blf in self._blf:  # the batch in one array of BLF objects, no can.Message (can_logs.FrameBlfWriter)
-            blf.write_frames(new, start_s)
+            blf.write_frames(frames, start_s)
         if self._per_message:  # one can.Message per frame, shared by every writer
-            for f in new:
+            for f in frames:
                 msg = can.Message(timestamp=start_s + f.t_s, arbitration_id=f.arbitration_id, data=f.data,
                                   is_extended_id=False, channel=0)
                 for log in self._per_message:
@@ -116,13 +128,17 @@ class RunStream:
                 writer.file.flush()
 
     def close(self, record: RunRecord | None) -> None:
-        """Write the rest of ``record`` (None: nothing more), close the files, write the MF4 logs; idempotent."""
+        """Write the rest of ``record`` (None: nothing more), close the files, write the MF4 logs; idempotent.
+        The files are closed whatever happens; a failed write is raised after."""
         if self.closed:
             return
         self.closed = True
         try:
-            if record is not None:
-                self.flush(record)
+            try:
+                if record is not None:
+                    self.flush(record)
+            finally:
+                self._thread.close()  # every batch handed over written, the thread ended
         finally:
             self._stop_all()
         if record is not None and self._at_end:
