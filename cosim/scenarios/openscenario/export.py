@@ -38,7 +38,7 @@ from ..resolve import plain, scenario_to_dict
 from .entities import DRIVER_CONTROLLER
 from .export_plane import PlaneExportError, category, in_plane, opendrive_road, plane_actions
 from .properties import PREFIX, changed, flat
-from .reader import EGO_SECTIONS
+from .reader import EGO_SECTIONS, OBJECTS_TABLE
 
 LANE_WIDTH_M = 3.5
 BICYCLE_MAX_WIDTH_M = 1.0
@@ -91,7 +91,8 @@ def _ego_properties(scenario: Scenario):
     sections = {s: {k: v for k, v in data[s].items() if k not in STANDARD_EGO_KEYS.get(s, ())}
                 for s in EGO_SECTIONS}
     base = {s: default[s] for s in EGO_SECTIONS}
-    return flat(changed(sections, base))
+    table = {OBJECTS_TABLE: "objects"} if len(scenario.objects) == 1 else {}  # else the import's default
+    return flat(changed(sections, base) | table)
 
 
 def _ego(scenario: Scenario) -> tuple[xosc.Vehicle, xosc.Controller]:

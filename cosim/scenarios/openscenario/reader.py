@@ -34,6 +34,8 @@ EGO_NAMES = ("ego", "hero")
 TOP = ("FileHeader", "ParameterDeclarations", "CatalogLocations", "RoadNetwork", "Entities", "Storyboard")
 #: the sections crd reads from the ego's crd.* properties ([driver] comes from its controller)
 EGO_SECTIONS = ("scenario", "plant", "radar", "gateway", "ecu", "checks", "end")
+#: the ego's property that keeps one object as ``[[objects]]`` (a table form, so a round trip writes the same TOML)
+OBJECTS_TABLE = "objects_table"
 
 
 def pick_ego(bodies: Mapping[str, Body], wanted: str | None, root: Element) -> Body:
@@ -191,6 +193,10 @@ class _Build:
         if ego_init:
             raise unsupported(ego_init[0].elem, "a trajectory for the ego: crd's driver models drive the ego")
         data = nested(self.ego.properties, origins=self.origins)
+        table = data.pop(OBJECTS_TABLE, "object")
+        if table not in ("object", "objects"):
+            raise fail(self.origins[OBJECTS_TABLE], f"property crd.{OBJECTS_TABLE}: expected \"object\" or "
+                                                    f"\"objects\", got {table!r}")
         for section in data:
             if section not in EGO_SECTIONS:
                 origin = self.origins[next(p for p in self.origins if p.split(".")[0] == section)]
@@ -198,7 +204,7 @@ class _Build:
         self._ego_keys(data, ego_speed)
         self._road_keys(data, frame, ego_start)
         objs = [self.object_keys(a, actors) for a in actors.values()]
-        if len(objs) == 1:
+        if len(objs) == 1 and table == "object":
             data["object"] = objs[0]
         elif objs:
             data["objects"] = objs
