@@ -133,3 +133,57 @@ def test_export_then_import_gives_the_same_run(tmp_path: Path, name: str) -> Non
     assert a.keys() == b.keys()
     for file in a:
         assert a[file] == b[file], file
+
+
+def _planar(objects: list[dict]) -> dict:
+    """A curved-road scene (line, spiral, arc) with a path-following ego and ``objects``."""
+    return {"scenario": {"name": "odd", "duration_s": 5.0}, "plant": {"initial_speed_mps": 10.0},
+            "driver": {"model": "hold_speed", "set_speed_mps": 10.0, "steering": {"lane": -1}},
+            "road": {"y_m": 1.75, "geometry": [{"kind": "line", "length_m": 30.0},
+                                               {"kind": "spiral", "length_m": 40.0, "curvature_start_1pm": 0.0,
+                                                "curvature_end_1pm": -0.01},
+                                               {"kind": "arc", "length_m": 60.0, "curvature_1pm": -0.01}],
+                     "lane_sections": [{"left_m": [3.5], "right_m": [3.5, 3.0]}]},
+            "objects": objects}
+
+
+ODD = [  # placements and motions the bundled scenes do not use
+    {"name": "askew", "target_class": "GVT", "pose": {"x_m": 40.0, "y_m": 6.0, "heading_rad": -2.5}},
+    {"name": "late walker", "target_class": "EPTc", "trajectory": {
+        "waypoints": [[50.0, -8.0], [52.5, -1.0], [60.0, 3.0]], "speeds": [[0.0, 1.5]], "start": "time",
+        "start_value": 1.25}},
+    {"name": "lane rider", "target_class": "EMT", "trajectory": {
+        "lane": -2, "lane_offset_m": 0.25, "start_s_m": 12.5, "speeds": [[0.0, 8.0]], "start": "time",
+        "start_value": 0.5}},
+    {"name": "diagonal", "target_class": "EBTa", "crossing": {
+        "x_m": 45.3, "y_m": -0.7, "heading_rad": 2.1, "start_distance_m": 6.7, "accel_distance_m": 1.3,
+        "speed_mps": 4.1}},
+]
+
+
+def test_other_placements_round_trip_exactly(tmp_path: Path) -> None:
+    """A world pose across the ego, a later waypoint and lane trajectory on a spiral and an arc, a skewed crossing."""
+    scenario = scenario_from_dict(_planar(ODD))
+    back = read_xosc(export_xosc(scenario, tmp_path, "odd")[0])
+    assert back == scenario
+
+
+UNEXPORTABLE = {  # an object the export cannot carry exactly -> what the error names
+    "speed knots": ({"name": "x", "trajectory": {"waypoints": [[5.0, 0.0], [9.0, 0.0]],
+                                                 "speeds": [[0.0, 1.0], [2.0, 3.0]]}}, "trajectory speeds"),
+    "ego ttc start": ({"name": "x", "trajectory": {"waypoints": [[5.0, 0.0], [9.0, 0.0]], "speeds": [[0.0, 1.0]],
+                                                   "start": "ego_ttc", "start_value": 2.0,
+                                                   "start_point": [9.0, 0.0]}}, "trajectory start 'ego_ttc'"),
+    "pose on the axis": ({"name": "x", "pose": {"x_m": 5.0, "y_m": 1.0, "heading_rad": 0.0}}, "on the ego's axis"),
+    "braking road pose": ({"name": "x", "road_pose": {"s_m": 5.0}, "speed_mps": 3.0, "brake_decel_mps2": 2.0,
+                           "brake_at_s": 1.0}, "braking"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(UNEXPORTABLE))
+def test_what_the_export_cannot_carry_is_an_error(tmp_path: Path, case: str) -> None:
+    from cosim.scenarios.openscenario.export import ExportError
+
+    obj, words = UNEXPORTABLE[case]
+    with pytest.raises(ExportError, match=f"object 'x'.*{words}"):
+        export_xosc(scenario_from_dict(_planar([obj])), tmp_path, "bad")

@@ -89,10 +89,10 @@ def test_lane_and_road_positions_on_an_arc_place_the_objects_there(tmp_path: Pat
     assert crd(["run", str(tmp_path / "curve.xosc"), "--out", str(tmp_path / "run")]) == 0
 
 
-def _speed_story() -> xosc.Maneuver:
+def _story(action) -> xosc.Maneuver:
+    """The walker's one event: ``action`` at 1 s."""
     event = xosc.Event("go", xosc.Priority.override)
-    event.add_action("go", xosc.AbsoluteSpeedAction(1.0, xosc.TransitionDynamics(
-        xosc.DynamicsShapes.linear, xosc.DynamicsDimension.rate, 1.0)))
+    event.add_action("go", action)
     event.add_trigger(xosc.ValueTrigger("at", 0.0, xosc.ConditionEdge.rising,
                                         xosc.SimulationTimeCondition(1.0, xosc.Rule.greaterThan)))
     maneuver = xosc.Maneuver("m")
@@ -100,20 +100,11 @@ def _speed_story() -> xosc.Maneuver:
     return maneuver
 
 
-def _lane_change_story() -> xosc.Maneuver:
-    event = xosc.Event("go", xosc.Priority.override)
-    event.add_action("go", xosc.AbsoluteLaneChangeAction(-1, xosc.TransitionDynamics(
-        xosc.DynamicsShapes.linear, xosc.DynamicsDimension.rate, 1.0)))
-    event.add_trigger(xosc.ValueTrigger("at", 0.0, xosc.ConditionEdge.rising,
-                                        xosc.SimulationTimeCondition(1.0, xosc.Rule.greaterThan)))
-    maneuver = xosc.Maneuver("m")
-    maneuver.add_event(event)
-    return maneuver
-
-
+_LINEAR = xosc.TransitionDynamics(xosc.DynamicsShapes.linear, xosc.DynamicsDimension.rate, 1.0)
 CASES = {  # what stays refused for an object on the curved road: (story, walker's position, element named)
-    "speed action of a placed object": (_speed_story, None, "SpeedAction"),
-    "lane change of a placed object": (_lane_change_story, None, "LaneChangeAction"),
+    "speed action of a placed object": (lambda: _story(xosc.AbsoluteSpeedAction(1.0, _LINEAR)), None, "SpeedAction"),
+    "lane change of a placed object": (lambda: _story(xosc.AbsoluteLaneChangeAction(-1, _LINEAR)), None,
+                                       "LaneChangeAction"),
     "relative lane position": (None, lambda: xosc.RelativeLanePosition(1, "Ego", 0.0, ds=20.0), "RelativeLanePosition"),
 }
 

@@ -43,6 +43,7 @@ VERTEX_TOL_M = 1e-3
 CHORD_TOL_M = 0.05
 SPEED_TOL = 1e-6
 MATCH_TOL = 1e-9
+DISTANCE_ULPS = 64
 
 
 @dataclass(frozen=True)
@@ -154,15 +155,21 @@ def trajectory_keys(motion: Motion, start_pose, frame: Frame, road: Road | None,
 
 
 def exact_distance(start: tuple[float, float], point: tuple[float, float], h_rad: float) -> float:
-    """The distance ``d`` from ``start`` to ``point`` on heading ``h``: among the floats next to ``|point - start|``,
-    the one for which crd's ``point - d (cos h, sin h)`` is ``start`` bit for bit (else the distance itself)."""
+    """The distance ``d`` from ``start`` to ``point`` on heading ``h``, as the number crd's crossing was given.
+
+    crd places the start at ``point - d (cos h, sin h)``, rounded; many floats next to ``|point - start|``
+    give that start bit for bit, so the file alone cannot tell them apart. Of those within
+    :data:`DISTANCE_ULPS` units in the last place, this takes the one with the shortest decimal form
+    (the number a scenario file holds: 6.7, not 6.700000000000001), the nearest on a tie; none: the distance.
+    """
     d = math.dist(start, point)
     c, s = math.cos(h_rad), math.sin(h_rad)
     candidates, lo, hi = [d], d, d
-    for _ in range(4):
+    for _ in range(DISTANCE_ULPS):
         lo, hi = math.nextafter(lo, -math.inf), math.nextafter(hi, math.inf)
         candidates += [lo, hi]
-    return next((x for x in candidates if (point[0] - x * c, point[1] - x * s) == tuple(start)), d)
+    exact = [x for x in candidates if (point[0] - x * c, point[1] - x * s) == tuple(start)]
+    return min(exact, key=lambda x: (len(repr(x)), abs(x - d)), default=d)
 
 
 def _crossing(motion: Motion, keys: dict[str, Any], frame: Frame) -> dict[str, Any] | None:
