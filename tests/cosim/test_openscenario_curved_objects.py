@@ -47,7 +47,7 @@ def _entities() -> xosc.Entities:
     return entities
 
 
-def _write(out: Path, story: xosc.Maneuver | None = None, walker_at=None) -> Path:
+def _write(out: Path, story: xosc.Maneuver | None = None, walker_at=None, walker_path=None) -> Path:
     road = xodr.create_road([xodr.Line(50.0), xodr.Arc(CURVE_1PM, angle=math.pi / 2), xodr.Line(80.0)], id=1,
                             left_lanes=1, right_lanes=2, lane_width=3.5)
     odr = xodr.OpenDrive("curve")
@@ -59,6 +59,9 @@ def _write(out: Path, story: xosc.Maneuver | None = None, walker_at=None) -> Pat
     init.add_init_action("Ego", _step(50 / 3.6))
     s, lane, offset = WALKER
     init.add_init_action("walker", xosc.TeleportAction(walker_at or xosc.LanePosition(s, offset, lane, 1)))
+    if walker_path is not None:
+        init.add_init_action("walker", _step(1.5))
+        init.add_init_action("walker", walker_path)
     s, t, h = CAR
     init.add_init_action("parked", xosc.TeleportAction(xosc.RoadPosition(s, t, 1, xosc.Orientation(
         h=h, reference=xosc.ReferenceContext.relative))))
@@ -87,6 +90,25 @@ def test_lane_and_road_positions_on_an_arc_place_the_objects_there(tmp_path: Pat
     assert (parked.pose.x_m, parked.pose.y_m, parked.pose.heading_rad) == pytest.approx(expected, abs=1e-9)
     assert hdg > 0.3  # on the arc: the road has turned there
     assert crd(["run", str(tmp_path / "curve.xosc"), "--out", str(tmp_path / "run")]) == 0
+
+
+ROAD_END_M = 50.0 + (math.pi / 2) / CURVE_1PM + 80.0
+
+
+@pytest.mark.parametrize("step_m", [5.0, 40.0])
+def test_a_polyline_along_a_lane_is_the_lane_when_its_chords_keep_to_it(tmp_path: Path, step_m: float) -> None:
+    """Lane positions every 5 m on the arc: chords 2 cm off the lane, read as the lane; every 40 m: 1.3 m, as points."""
+    s0, lane, offset = WALKER
+    stations = [*range(int(s0), int(ROAD_END_M), int(step_m)), ROAD_END_M]
+    trajectory = xosc.Trajectory("along", False)
+    trajectory.add_shape(xosc.Polyline([], [xosc.LanePosition(s, offset, lane, 1) for s in stations]))
+    path = _write(tmp_path, walker_path=xosc.FollowTrajectoryAction(trajectory, xosc.FollowingMode.position))
+    traj = read_xosc(path).objects[0].trajectory
+    assert traj.start == "at_start" and traj.speeds == ((0.0, 1.5),)
+    if step_m == 5.0:
+        assert (traj.lane, traj.lane_offset_m, traj.start_s_m, traj.waypoints) == (lane, offset, s0, ())
+    else:
+        assert traj.lane is None and len(traj.waypoints) == len(stations)
 
 
 def _story(action) -> xosc.Maneuver:
