@@ -31,6 +31,7 @@ from typing import Any
 
 from scenariogeneration import xodr, xosc
 
+from ...errors import ConfigError
 from ...world.scene_build import build_road
 from ..config import DriverConfig, ObjectConfig, Scenario
 from ..planar_rules import PLACEMENTS
@@ -51,8 +52,8 @@ STANDARD_OBJECT_KEYS = ("enabled", "name", "position_m", "speed_mps", "length_m"
 STANDARD_EGO_KEYS = {"scenario": ("name", "duration_s"), "plant": ("initial_speed_mps", "length_m", "width_m")}
 
 
-class ExportError(ValueError):
-    """A scenario that the OpenSCENARIO subset cannot carry exactly."""
+class ExportError(ConfigError):
+    """A scenario that the OpenSCENARIO subset cannot carry exactly (the CLI names the scenario file)."""
 
 
 def _road(scenario: Scenario) -> xodr.OpenDrive:
@@ -200,10 +201,10 @@ def build(scenario: Scenario, road_file: str, ego: str = "Ego") -> tuple[xosc.Sc
 def export_xosc(scenario: Scenario, out_dir: str | Path, stem: str | None = None) -> tuple[Path, Path]:
     """Write ``<stem>.xosc`` and ``<stem>.xodr`` into ``out_dir``; returns both paths."""
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     stem = stem or scenario.scenario.name
     xosc_path, xodr_path = out_dir / f"{stem}.xosc", out_dir / f"{stem}.xodr"
-    sce, odr = build(scenario, xodr_path.name)
+    sce, odr = build(scenario, xodr_path.name)  # an ExportError before anything is written
+    out_dir.mkdir(parents=True, exist_ok=True)
     odr.write_xml(str(xodr_path))
     sce.write_xml(str(xosc_path))
     return xosc_path, xodr_path

@@ -189,9 +189,6 @@ class _Build:
                 raise fail(event.action.elem, f"actor {event.actor!r} is not an entity")
         frame = Frame(self.ego, ego_start.pose)
         actors = self.actors(frame, ego_speed)
-        ego_init = [a for a in self.board.init.get(self.ego.name, []) if isinstance(a, FollowTrajectory)]
-        if ego_init:
-            raise unsupported(ego_init[0].elem, "a trajectory for the ego: crd's driver models drive the ego")
         data = nested(self.ego.properties, origins=self.origins)
         table = data.pop(OBJECTS_TABLE, "object")
         if table not in ("object", "objects"):
