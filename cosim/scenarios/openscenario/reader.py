@@ -1,11 +1,13 @@
 """An OpenSCENARIO 1.x file (with its OpenDRIVE road) as a crd :class:`~cosim.scenarios.config.Scenario`.
 
-The file is read strictly (:mod:`.xml_source`): what crd's 1-D world can
-follow maps onto the scenario keys (a curved road: the planar ``[road]``, :mod:`.planar_road`) (docs/openscenario.md); anything else is a
-one-line error naming the file, the line and the element. The mapped keys go
-through the same loader as a TOML file (:func:`cosim.scenarios.loader.scenario_from_dict`),
-so ranges and cross-key rules hold the same; a loader error names the property
-or element it came from.
+The file is read strictly (:mod:`.xml_source`): what crd's world can follow maps onto the scenario
+keys (docs/openscenario.md): objects on the ego's axis as the 1-D keys and profiles
+(:mod:`.profiles`); a curved road, or a straight one under a steering ego, as the planar ``[road]``
+(:mod:`.planar_road`); objects on that road or across the ego as ``road_pose``/``pose``
+(:mod:`.placement`); trajectories and crossings (:mod:`.trajectory_keys`). Anything else is a
+one-line error naming the file, the line and the element. The mapped keys go through the same
+loader as a TOML file (:func:`cosim.scenarios.loader.scenario_from_dict`), so ranges and cross-key
+rules hold the same; a loader error names the property or element it came from.
 """
 
 from __future__ import annotations
