@@ -106,9 +106,10 @@ def max_curvature(road: Road, s0_m: float, s1_m: float) -> float:
 def _timed(motion: Motion, keys: dict[str, Any]) -> dict[str, Any]:
     """The constant speed and the start time a ``<Timing>`` gives (module docstring)."""
     timing, times, pts = motion.follow.timing, motion.follow.times, motion.follow.vertices
-    begin = keys.get("start_value", 0.0)
-    if keys["start"] == "ego_ttc" and (timing.absolute or timing.offset_s + timing.scale * times[0] != 0.0):
+    by_ttc = keys["start"] == "ego_ttc"  # the start is a condition, not a time: the times must start with it
+    if by_ttc and (timing.absolute or timing.offset_s + timing.scale * times[0] != 0.0):
         raise unsupported(timing.elem, "vertex times that do not start with the action started by a condition")
+    begin = 0.0 if by_ttc else keys.get("start_value", 0.0)
     at = [timing.offset_s + timing.scale * t + (0.0 if timing.absolute else begin) for t in times]
     if at[0] < begin or any(b <= a for a, b in zip(at, at[1:])):
         raise unsupported(timing.elem, f"vertex times {at}: crd's object starts at the first vertex, then moves on")
@@ -118,8 +119,8 @@ def _timed(motion: Motion, keys: dict[str, Any]) -> dict[str, Any]:
     if any(abs(v - speed) > SPEED_TOL * max(speed, 1.0) for v in steps):
         raise unsupported(timing.elem, f"vertex times giving speeds {[round(v, 6) for v in steps]} m/s: crd's "
                                        "trajectory changes speed with a constant acceleration, not in steps")
-    if at[0] > 0.0 or keys["start"] != "at_start":
-        keys = keys | {"start": "time" if keys["start"] != "ego_ttc" else "ego_ttc", "start_value": at[0]}
+    if not by_ttc and (at[0] > 0.0 or keys["start"] != "at_start"):
+        keys = keys | {"start": "time", "start_value": at[0]}
     return keys | {"speeds": [[0.0, speed]]}
 
 
