@@ -32,6 +32,7 @@ from typing import Any
 from scenariogeneration import xodr, xosc
 
 from ...errors import ConfigError
+from ...world.road import Road
 from ...world.scene_build import build_road
 from ..config import DriverConfig, ObjectConfig, Scenario
 from ..planar_rules import PLACEMENTS
@@ -159,11 +160,11 @@ def _events(obj: ObjectConfig, ego: str) -> list[xosc.Event]:
     return events
 
 
-def _object_story(obj: ObjectConfig, scenario: Scenario, road, ego: str) -> tuple[list, list[xosc.Event]]:
+def _object_story(obj: ObjectConfig, road: Road | None, ego: str) -> tuple[list, list[xosc.Event]]:
     """(Init actions, story events) of one object."""
     if in_plane(obj):
         try:
-            return plane_actions(obj, scenario, road, ego)
+            return plane_actions(obj, road, ego)
         except PlaneExportError as exc:
             raise ExportError(str(exc)) from None
     h = math.pi if obj.speed_mps < 0.0 else 0.0
@@ -185,7 +186,7 @@ def build(scenario: Scenario, road_file: str, ego: str = "Ego") -> tuple[xosc.Sc
     board = xosc.StoryBoard(init, stop)
     for obj in scenario.scene_objects():
         entities.add_scenario_object(obj.name, _object_entity(obj))
-        actions, events = _object_story(obj, scenario, road, ego)
+        actions, events = _object_story(obj, road, ego)
         for action in actions:
             init.add_init_action(obj.name, action)
         if events:

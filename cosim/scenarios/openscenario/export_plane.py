@@ -29,9 +29,11 @@ import math
 
 from scenariogeneration import xodr, xosc
 
+from ...world.road import Road
+from ...world.scene_build import lane_centre_t
 from ...world.targets import TARGET_CLASSES
 from ...world.trajectory import SpeedProfile, crossing
-from ..config import ObjectConfig, Scenario
+from ..config import ObjectConfig
 from ..planar_config import CrossingConfig, RoadConfig, TrajectoryConfig
 
 ROAD_ID = 0
@@ -121,7 +123,7 @@ def _constant_speed(obj: ObjectConfig, cfg: TrajectoryConfig) -> float:
     return cfg.speeds[0][1]
 
 
-def _lane_stations(road, cfg: TrajectoryConfig, t_m: float) -> list[float]:
+def _lane_stations(road: Road, cfg: TrajectoryConfig, t_m: float) -> list[float]:
     """Stations from ``start_s_m`` to the road's end: the joints, and on curved pieces close enough that the
     chords' sagitta on the path at offset ``t``, ``(1 - k t) ds^2 |k| / 8``, stays within :data:`CHORD_SAGITTA_M`."""
     plan, stations = road.plan, [cfg.start_s_m]
@@ -137,13 +139,11 @@ def _lane_stations(road, cfg: TrajectoryConfig, t_m: float) -> list[float]:
     return stations
 
 
-def _vertices(obj: ObjectConfig, road) -> tuple[list, list[tuple[float, float]]]:
+def _vertices(obj: ObjectConfig, road: Road | None) -> tuple[list, list[tuple[float, float]]]:
     """The polyline's positions and their world points."""
     cfg = obj.trajectory
     if cfg.lane is None:
         return [xosc.WorldPosition(x, y) for x, y in cfg.waypoints], [tuple(p) for p in cfg.waypoints]
-    from ...world.scene_build import lane_centre_t
-
     t = lane_centre_t(road, cfg.lane, cfg.start_s_m) + cfg.lane_offset_m
     stations = _lane_stations(road, cfg, t)
     points = [road.pose_at(s, t)[:2] for s in stations]
@@ -166,7 +166,7 @@ def _follow(name: str, positions: list, times: list[float]) -> xosc.FollowTrajec
     return xosc.FollowTrajectoryAction(trajectory, xosc.FollowingMode.position)
 
 
-def trajectory_actions(obj: ObjectConfig, road) -> tuple[list, xosc.Event | None]:
+def trajectory_actions(obj: ObjectConfig, road: Road | None) -> tuple[list, xosc.Event | None]:
     """(Init actions, story event or None) of an object with ``[objects.trajectory]``."""
     cfg = obj.trajectory
     speed = _constant_speed(obj, cfg)
@@ -213,7 +213,7 @@ def crossing_actions(obj: ObjectConfig, ego: str) -> tuple[list, xosc.Event]:
     return init, event
 
 
-def plane_actions(obj: ObjectConfig, scenario: Scenario, road, ego: str) -> tuple[list, list[xosc.Event]]:
+def plane_actions(obj: ObjectConfig, road: Road | None, ego: str) -> tuple[list, list[xosc.Event]]:
     """(Init actions, story events) of an object placed or moved in the plane."""
     if obj.trajectory is not None:
         init, event = trajectory_actions(obj, road)

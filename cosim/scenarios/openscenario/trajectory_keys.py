@@ -36,6 +36,7 @@ from .conditions import AtTime, AtTtcPoint
 from .entities import Body
 from .frame import Frame
 from .opendrive import Road
+from .positions import Pose
 from .trajectory import FollowTrajectory, centre_path
 from .xml_source import unsupported
 
@@ -134,7 +135,7 @@ def _speeds(motion: Motion) -> list[list[float]]:
     return [[0.0, v0], [dyn.value, change.target_mps]]
 
 
-def trajectory_keys(motion: Motion, start_pose, frame: Frame, road: Road | None, ego: str) -> dict[str, Any]:
+def trajectory_keys(motion: Motion, start_pose: Pose, frame: Frame, road: Road | None, ego: str) -> dict[str, Any]:
     """``{"trajectory": ...}`` or ``{"crossing": ...}`` for an object's motion (module docstring)."""
     follow = motion.follow
     if math.hypot(start_pose.x_m - follow.vertices[0][0], start_pose.y_m - follow.vertices[0][1]) > VERTEX_TOL_M:
