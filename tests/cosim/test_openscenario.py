@@ -149,6 +149,8 @@ def _planar(objects: list[dict]) -> dict:
 
 ODD = [  # placements and motions the bundled scenes do not use
     {"name": "askew", "target_class": "GVT", "pose": {"x_m": 40.0, "y_m": 6.0, "heading_rad": -2.5}},
+    {"name": "on the spiral", "target_class": "EPTa", "road_pose": {"s_m": 45.0, "t_m": -5.0, "heading_rad": 1.2},
+     "speed_mps": 0.5},
     {"name": "late walker", "target_class": "EPTc", "trajectory": {
         "waypoints": [[50.0, -8.0], [52.5, -1.0], [60.0, 3.0]], "speeds": [[0.0, 1.5]], "start": "time",
         "start_value": 1.25}},
@@ -162,7 +164,8 @@ ODD = [  # placements and motions the bundled scenes do not use
 
 
 def test_other_placements_round_trip_exactly(tmp_path: Path) -> None:
-    """A world pose across the ego, a later waypoint and lane trajectory on a spiral and an arc, a skewed crossing."""
+    """A world pose across the ego, a road pose on a spiral, a later waypoint and lane trajectory on a spiral and an
+    arc, a skewed crossing."""
     scenario = scenario_from_dict(_planar(ODD))
     back = read_xosc(export_xosc(scenario, tmp_path, "odd")[0])
     assert back == scenario
