@@ -13,6 +13,7 @@ import argparse
 from pathlib import Path
 from typing import Callable
 
+from ..errors import ConfigError
 from ..scenarios.config import Scenario
 from ..scenarios.formats import read_scenario
 from ..scenarios.resolve import scenario_to_toml
@@ -21,7 +22,7 @@ from ..scenarios.resolve import scenario_to_toml
 def _xosc(scenario: Scenario, out: Path, stem: str) -> list[Path]:
     from ..scenarios.openscenario.export import export_xosc  # scenariogeneration: the xosc extra
 
-    return list(export_xosc(scenario, out, stem))
+    return list(export_xosc(scenario, out, stem))  # ExportError (a ConfigError): what the subset cannot carry
 
 
 def _toml(scenario: Scenario, out: Path, stem: str) -> list[Path]:
@@ -48,6 +49,10 @@ def _do_export(args: argparse.Namespace) -> int:
 
     path = find_scenario(args.scenario)
     scenario = read_scenario(path, args.ego)
-    for written in WRITERS[args.format](scenario, args.out, path.stem):
-        print(written)
+    try:
+        written = WRITERS[args.format](scenario, args.out, path.stem)
+    except ConfigError as exc:
+        raise ConfigError(f"{path}: {exc}") from None
+    for file in written:
+        print(file)
     return 0

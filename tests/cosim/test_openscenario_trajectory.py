@@ -84,20 +84,54 @@ def test_a_polyline_trajectory_moves_the_object_along_its_points(tmp_path: Path)
 
 CASES = {  # what stays refused in a FollowTrajectoryAction: (xpath, new element, the element named)
     "clothoid": ("//Shape/Polyline", '<Clothoid curvature="0.1" curvatureDot="0" length="10"/>', "Clothoid"),
-    "timing": ("//TimeReference/None", '<Timing domainAbsoluteRelative="absolute" scale="1" offset="0"/>', "Timing"),
+    # absolute vertex times from 0 s, for a trajectory that starts at 0.5 s: crd's object would lag behind them
+    "timing before the start": ("//TimeReference/None", '<Timing domainAbsoluteRelative="absolute" scale="1" '
+                                                        'offset="0"/>', "Timing"),
+    # times 0, 5, 7 s over 10 m and 10 m: 2 m/s, then 5 m/s, a step crd's speed profile cannot make
+    "timing with a speed step": ("//Vertex[3]", '<Vertex time="7.0"><Position><WorldPosition x="90.0" y="5.0"/>'
+                                                '</Position></Vertex>', "Timing"),
     "follow mode": ("//TrajectoryFollowingMode", '<TrajectoryFollowingMode followingMode="follow"/>',
                     "TrajectoryFollowingMode"),
 }
+
+
+def _edit(path: Path, *edits: tuple[str, str]) -> None:
+    """Replace the element at each xpath with the given XML."""
+    tree = etree.parse(str(path))
+    for xpath, xml in edits:
+        old = tree.xpath(xpath)[0]
+        old.getparent().replace(old, etree.fromstring(xml))
+    tree.write(str(path))
+
+
+TIMING = {  # <Timing> attributes -> (speed, start) the vertex times 0, 5, 10 s over 10 m + 10 m give
+    'domainAbsoluteRelative="relative" scale="1" offset="0"': (WALK_MPS, START_S),
+    'domainAbsoluteRelative="absolute" scale="1" offset="0.5"': (WALK_MPS, START_S),
+    'domainAbsoluteRelative="relative" scale="0.5" offset="1.5"': (2 * WALK_MPS, START_S + 1.5),
+}
+
+
+@pytest.mark.parametrize("timing", sorted(TIMING))
+def test_vertex_times_with_a_timing_reference_give_the_speed_and_start(tmp_path: Path, timing: str) -> None:
+    path = _write(tmp_path)
+    untimed = read_xosc(path).object.trajectory
+    _edit(path, ("//TimeReference/None", f"<Timing {timing}/>"))
+    traj = read_xosc(path).object.trajectory
+    speed, start = TIMING[timing]
+    assert traj.speeds == ((0.0, pytest.approx(speed, rel=1e-12)),)
+    assert (traj.start, traj.start_value) == ("time", pytest.approx(start, abs=1e-12))
+    assert traj.waypoints == untimed.waypoints
+    if speed == WALK_MPS:
+        assert traj.speeds == untimed.speeds and traj.start_value == untimed.start_value  # the same motion
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_what_a_trajectory_cannot_hold_is_a_one_line_error(tmp_path: Path, case: str) -> None:
     path = _write(tmp_path)
     xpath, xml, tag = CASES[case]
-    tree = etree.parse(str(path))
-    old = tree.xpath(xpath)[0]
-    old.getparent().replace(old, etree.fromstring(xml))
-    tree.write(str(path))
+    if tag == "Timing" and "Timing" not in xml:
+        _edit(path, ("//TimeReference/None", '<Timing domainAbsoluteRelative="relative" scale="1" offset="0"/>'))
+    _edit(path, (xpath, xml))
     line = next(e.sourceline for e in etree.parse(str(path)).iter(tag))
     with pytest.raises(ConfigError) as err:
         read_xosc(path)

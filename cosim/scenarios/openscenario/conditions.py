@@ -6,7 +6,7 @@ each profile on one event; and/or combinations are not supported yet), with
 
 * ``<SimulationTimeCondition rule=greaterThan|greaterOrEqual value>`` (+ the condition's ``delay``);
 * ``<RelativeDistanceCondition>`` (longitudinal, rule lessThan|lessOrEqual, ``freespace``);
-* ``<TimeToCollisionCondition>`` to an entity (rule lessThan|lessOrEqual, ``freespace``);
+* ``<TimeToCollisionCondition>`` to an entity or a position (rule lessThan|lessOrEqual, ``freespace``);
 * ``<ReachPositionCondition>`` (a :mod:`.positions` position; ``tolerance`` read, no effect).
 
 A distance, TTC or position condition needs ``delay = 0`` (crd's gap triggers fire at once).
@@ -52,6 +52,17 @@ class AtTtc:
 
 
 @dataclass(frozen=True)
+class AtTtcPoint:
+    """``entity``'s time to reach a point (its distance along its heading over its speed) falls to ``ttc_s``."""
+
+    entity: str
+    pose: Pose
+    ttc_s: float
+    freespace: bool
+    elem: Element
+
+
+@dataclass(frozen=True)
 class AtPosition:
     entity: str
     pose: Pose
@@ -76,14 +87,17 @@ def _relative_distance(elem: Element, entity: str, roads: Mapping[str, Road]) ->
     return AtDistance(entity, attr(elem, "entityRef"), number(elem, "value"), _bool(elem, "freespace"), elem)
 
 
-def _ttc(elem: Element, entity: str, roads: Mapping[str, Road]) -> AtTtc:  # noqa: ARG001
+def _ttc(elem: Element, entity: str, roads: Mapping[str, Road]) -> AtTtc | AtTtcPoint:
     only(elem, ("TimeToCollisionConditionTarget",))
     if elem.get("alongRoute") not in (None, "false", "0"):
         raise unsupported(elem, "alongRoute=true")
     _longitudinal(elem)
     choice(elem, "rule", FALLING)
-    target = one_child(child(elem, "TimeToCollisionConditionTarget"), ("EntityRef",))
-    return AtTtc(entity, attr(target, "entityRef"), number(elem, "value"), _bool(elem, "freespace"), elem)
+    target = one_child(child(elem, "TimeToCollisionConditionTarget"), ("EntityRef", "Position"))
+    value, freespace = number(elem, "value"), _bool(elem, "freespace")
+    if target.tag == "Position":
+        return AtTtcPoint(entity, read_position(target, roads), value, freespace, elem)
+    return AtTtc(entity, attr(target, "entityRef"), value, freespace, elem)
 
 
 def _reach(elem: Element, entity: str, roads: Mapping[str, Road]) -> AtPosition:
@@ -96,7 +110,7 @@ ENTITY_CONDITIONS = {"RelativeDistanceCondition": _relative_distance, "TimeToCol
                      "ReachPositionCondition": _reach}
 
 
-def _by_entity(elem: Element, delay_s: float, roads: Mapping[str, Road]) -> AtDistance | AtTtc | AtPosition:
+def _by_entity(elem: Element, delay_s: float, roads: Mapping[str, Road]) -> AtDistance | AtTtc | AtTtcPoint | AtPosition:
     only(elem, ("TriggeringEntities", "EntityCondition"))
     triggering = child(elem, "TriggeringEntities")
     refs = only(triggering, ("EntityRef",))

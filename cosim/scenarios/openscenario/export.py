@@ -17,6 +17,10 @@ written so that reading them back gives the same scenario bit for bit:
   move as a linear ``LaneChangeAction`` (rate) to lane -1 plus an offset, each
   started by simulation time or the ego's bumper-to-bumper distance;
 * the duration as the storyboard's stop trigger (simulation time).
+
+A planar scenario (docs/openscenario.md, "Export"): its ``[road]`` is the OpenDRIVE road, and the
+objects placed or moved in the plane are written by :mod:`.export_plane`; a target class chooses
+the entity (a ``<Pedestrian>``, or a bicycle, motorbike or car) and is kept as ``crd.target_class``.
 """
 
 from __future__ import annotations
@@ -27,11 +31,16 @@ from typing import Any
 
 from scenariogeneration import xodr, xosc
 
+from ...errors import ConfigError
+from ...world.road import Road
+from ...world.scene_build import build_road
 from ..config import DriverConfig, ObjectConfig, Scenario
+from ..planar_rules import PLACEMENTS
 from ..resolve import plain, scenario_to_dict
 from .entities import DRIVER_CONTROLLER
+from .export_plane import PlaneExportError, category, in_plane, opendrive_road, plane_actions
 from .properties import PREFIX, changed, flat
-from .reader import EGO_SECTIONS
+from .reader import EGO_SECTIONS, OBJECTS_TABLE
 
 LANE_WIDTH_M = 3.5
 BICYCLE_MAX_WIDTH_M = 1.0
@@ -44,11 +53,17 @@ STANDARD_OBJECT_KEYS = ("enabled", "name", "position_m", "speed_mps", "length_m"
 STANDARD_EGO_KEYS = {"scenario": ("name", "duration_s"), "plant": ("initial_speed_mps", "length_m", "width_m")}
 
 
-class ExportError(ValueError):
-    """A scenario that the OpenSCENARIO subset cannot carry exactly."""
+class ExportError(ConfigError):
+    """A scenario that the OpenSCENARIO subset cannot carry exactly (the CLI names the scenario file)."""
 
 
 def _road(scenario: Scenario) -> xodr.OpenDrive:
+    if scenario.road is not None:
+        straight = all(g.kind == "line" for g in scenario.road.geometry)
+        if straight and scenario.driver.steering is None:
+            raise ExportError("a straight [road] without [driver.steering] reads back as crd's 1-D road: "
+                              "give the driver's steering, or leave the road out")
+        return opendrive_road(scenario.road, scenario.scenario.name)
     reach = max([abs(o.position_m) + o.length_m for o in scenario.scene_objects()] + [0.0])
     length = math.ceil(reach + 80.0 * scenario.scenario.duration_s + 100.0)
     road = xodr.create_road(xodr.Line(length), id=0, left_lanes=1, right_lanes=2, lane_width=LANE_WIDTH_M)
@@ -78,7 +93,8 @@ def _ego_properties(scenario: Scenario):
     sections = {s: {k: v for k, v in data[s].items() if k not in STANDARD_EGO_KEYS.get(s, ())}
                 for s in EGO_SECTIONS}
     base = {s: default[s] for s in EGO_SECTIONS}
-    return flat(changed(sections, base))
+    table = {OBJECTS_TABLE: "objects"} if len(scenario.objects) == 1 else {}  # else the import's default
+    return flat(changed(sections, base) | table)
 
 
 def _ego(scenario: Scenario) -> tuple[xosc.Vehicle, xosc.Controller]:
@@ -96,13 +112,17 @@ def _axle(x_m: float) -> xosc.Axle:
     return xosc.Axle(0.5 if x_m else 0.0, 0.6, 1.6, x_m, 0.3)
 
 
-def _object_entity(obj: ObjectConfig) -> xosc.Vehicle:
+def _object_entity(obj: ObjectConfig) -> xosc.Vehicle | xosc.Pedestrian:
     direction = -1.0 if obj.speed_mps < 0.0 else 1.0
-    box = xosc.BoundingBox(obj.width_m, obj.length_m, 1.5, direction * obj.length_m / 2, 0.0, 0.75)
-    category = xosc.VehicleCategory.bicycle if obj.width_m <= BICYCLE_MAX_WIDTH_M else xosc.VehicleCategory.car
-    rest = {k: v for k, v in plain(obj).items() if k not in STANDARD_OBJECT_KEYS}
-    vehicle = xosc.Vehicle(obj.name, category, box, _axle(1.0), _axle(0.0), 80.0, 10.0, 12.0)
-    return _with_properties(vehicle, flat(changed(rest, plain(ObjectConfig()))))
+    centre_x = 0.0 if in_plane(obj) else direction * obj.length_m / 2  # the reference point: crd's
+    box = xosc.BoundingBox(obj.width_m, obj.length_m, 1.5, centre_x, 0.0, 0.75)
+    kind, vehicle_category = category(obj, BICYCLE_MAX_WIDTH_M)
+    rest = {k: v for k, v in plain(obj).items() if k not in STANDARD_OBJECT_KEYS + PLACEMENTS}
+    if kind == "Pedestrian":
+        entity = xosc.Pedestrian(obj.name, 75.0, xosc.PedestrianCategory.pedestrian, box)
+    else:
+        entity = xosc.Vehicle(obj.name, vehicle_category, box, _axle(1.0), _axle(0.0), 80.0, 10.0, 12.0)
+    return _with_properties(entity, flat(changed(rest, plain(ObjectConfig()))))
 
 
 def _step_speed(speed_mps: float) -> xosc.AbsoluteSpeedAction:
@@ -140,8 +160,22 @@ def _events(obj: ObjectConfig, ego: str) -> list[xosc.Event]:
     return events
 
 
+def _object_story(obj: ObjectConfig, road: Road | None, ego: str) -> tuple[list, list[xosc.Event]]:
+    """(Init actions, story events) of one object."""
+    if in_plane(obj):
+        try:
+            return plane_actions(obj, road, ego)
+        except PlaneExportError as exc:
+            raise ExportError(str(exc)) from None
+    h = math.pi if obj.speed_mps < 0.0 else 0.0
+    init = [xosc.TeleportAction(xosc.WorldPosition(obj.position_m, obj.lateral_m, 0.0, h)),
+            _step_speed(abs(obj.speed_mps))]
+    return init, _events(obj, ego)
+
+
 def build(scenario: Scenario, road_file: str, ego: str = "Ego") -> tuple[xosc.Scenario, xodr.OpenDrive]:
     """The OpenSCENARIO object (its RoadNetwork names ``road_file``) and the OpenDRIVE road."""
+    odr, road = _road(scenario), build_road(scenario.road)
     entities, init = xosc.Entities(), xosc.Init()
     vehicle, controller = _ego(scenario)
     entities.add_scenario_object(ego, vehicle, controller)
@@ -152,10 +186,9 @@ def build(scenario: Scenario, road_file: str, ego: str = "Ego") -> tuple[xosc.Sc
     board = xosc.StoryBoard(init, stop)
     for obj in scenario.scene_objects():
         entities.add_scenario_object(obj.name, _object_entity(obj))
-        h = math.pi if obj.speed_mps < 0.0 else 0.0
-        init.add_init_action(obj.name, xosc.TeleportAction(xosc.WorldPosition(obj.position_m, obj.lateral_m, 0.0, h)))
-        init.add_init_action(obj.name, _step_speed(abs(obj.speed_mps)))
-        events = _events(obj, ego)
+        actions, events = _object_story(obj, road, ego)
+        for action in actions:
+            init.add_init_action(obj.name, action)
         if events:
             maneuver = xosc.Maneuver(f"{obj.name}_maneuver")
             for ev in events:
@@ -163,16 +196,16 @@ def build(scenario: Scenario, road_file: str, ego: str = "Ego") -> tuple[xosc.Sc
             board.add_maneuver(maneuver, obj.name)
     sce = xosc.Scenario(scenario.scenario.name, "crd", xosc.ParameterDeclarations(), entities, board,
                         xosc.RoadNetwork(roadfile=road_file), xosc.Catalog(), osc_minor_version=OSC_MINOR)
-    return sce, _road(scenario)
+    return sce, odr
 
 
 def export_xosc(scenario: Scenario, out_dir: str | Path, stem: str | None = None) -> tuple[Path, Path]:
     """Write ``<stem>.xosc`` and ``<stem>.xodr`` into ``out_dir``; returns both paths."""
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     stem = stem or scenario.scenario.name
     xosc_path, xodr_path = out_dir / f"{stem}.xosc", out_dir / f"{stem}.xodr"
-    sce, odr = build(scenario, xodr_path.name)
+    sce, odr = build(scenario, xodr_path.name)  # an ExportError before anything is written
+    out_dir.mkdir(parents=True, exist_ok=True)
     odr.write_xml(str(xodr_path))
     sce.write_xml(str(xosc_path))
     return xosc_path, xodr_path

@@ -39,14 +39,21 @@ class Frame:
         h = self.pose.h_rad
         return -(x_m - self.pose.x_m) * math.sin(h) + (y_m - self.pose.y_m) * math.cos(h)
 
-    def direction(self, h_rad: float, elem: Element) -> int:
-        """+1 along the ego's heading, -1 against it."""
+    def aligned(self, h_rad: float) -> int | None:
+        """+1 along the ego's heading, -1 against it, None across it."""
         diff = math.remainder(h_rad - self.pose.h_rad, 2 * math.pi)
         if abs(diff) <= HEADING_TOL_RAD:
             return 1
         if abs(abs(diff) - math.pi) <= HEADING_TOL_RAD:
             return -1
-        raise unsupported(elem, f"heading {h_rad:g} rad across the ego's {self.pose.h_rad:g} rad; {PLANAR}")
+        return None
+
+    def direction(self, h_rad: float, elem: Element) -> int:
+        """+1 along the ego's heading, -1 against it."""
+        aligned = self.aligned(h_rad)
+        if aligned is None:
+            raise unsupported(elem, f"heading {h_rad:g} rad across the ego's {self.pose.h_rad:g} rad; {PLANAR}")
+        return aligned
 
     @property
     def ego_front_m(self) -> float:

@@ -10,6 +10,9 @@
   driving direction under right-hand traffic (lanes right of the centre lane
   along the reference line, those left of it against it).
 
+A road or lane position also keeps where it is on the road (:class:`RoadSpot`): when the road is
+the scenario's ``[road]``, an object placed there becomes crd's ``road_pose`` (:mod:`.placement`).
+
 Other position types (relative, route, trajectory, geographic) are not supported yet.
 """
 
@@ -24,12 +27,26 @@ from .xml_source import Element, attr, child, dispatch, fail, number, one_child,
 
 
 @dataclass(frozen=True)
+class RoadSpot:
+    """A position in road coordinates: ``s``, ``t`` (from the reference line, left positive), the heading
+    relative to the reference line's there, and for a lane position its lane and offset."""
+
+    road_id: str
+    s_m: float
+    t_m: float
+    h_rel_rad: float
+    lane: int | None = None
+    offset_m: float = 0.0
+
+
+@dataclass(frozen=True)
 class Pose:
-    """A reference point in world coordinates and its heading."""
+    """A reference point in world coordinates and its heading (and where it is on a road, if given so)."""
 
     x_m: float
     y_m: float
     h_rad: float
+    spot: RoadSpot | None = None
 
 
 def _no_tilt(elem: Element) -> None:
@@ -51,24 +68,28 @@ def _road_of(elem: Element, roads: Mapping[str, Road]) -> Road:
     return roads[road_id]
 
 
-def _heading(elem: Element, road_hdg_rad: float, default_rad: float) -> float:
+def _heading(elem: Element, road_hdg_rad: float, default_rel_rad: float) -> tuple[float, float]:
+    """(world heading, heading relative to the reference line) of a road or lane position."""
     only(elem, ("Orientation",))
     orient = child(elem, "Orientation", False)
     if orient is None:
-        return default_rad
+        return road_hdg_rad + default_rel_rad, default_rel_rad
     _no_tilt(orient)
     kind = attr(orient, "type", "relative")
     if kind not in ("relative", "absolute"):
         raise fail(orient, f"type: expected relative or absolute, got {kind!r}")
     h = number(orient, "h", 0.0)
-    return h if kind == "absolute" else road_hdg_rad + h
+    if kind == "absolute":
+        return h, math.remainder(h - road_hdg_rad, 2 * math.pi)
+    return road_hdg_rad + h, h
 
 
 def _road_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
     road = _road_of(elem, roads)
-    s_m = number(elem, "s")
-    x, y = road.point(s_m, number(elem, "t"))
-    return Pose(x, y, _heading(elem, road.heading_at(s_m), road.heading_at(s_m)))
+    s_m, t_m = number(elem, "s"), number(elem, "t")
+    x, y = road.point(s_m, t_m)
+    h, rel = _heading(elem, road.heading_at(s_m), 0.0)
+    return Pose(x, y, h, RoadSpot(road.road_id, s_m, t_m, rel))
 
 
 def _lane_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
@@ -76,10 +97,11 @@ def _lane_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
     lane = int(number(elem, "laneId"))
     if lane not in road.lane_centre_t_m:
         raise fail(elem, f"lane {lane} is not on road {road.road_id!r} (lanes: {sorted(road.lane_centre_t_m)})")
-    s_m = number(elem, "s")
-    x, y = road.point(s_m, road.lane_centre_t_m[lane] + number(elem, "offset", 0.0))
-    hdg = road.heading_at(s_m)
-    return Pose(x, y, _heading(elem, hdg, hdg if lane < 0 else hdg + math.pi))
+    s_m, offset = number(elem, "s"), number(elem, "offset", 0.0)
+    t_m = road.lane_centre_t_m[lane] + offset
+    x, y = road.point(s_m, t_m)
+    h, rel = _heading(elem, road.heading_at(s_m), 0.0 if lane < 0 else math.pi)
+    return Pose(x, y, h, RoadSpot(road.road_id, s_m, t_m, rel, lane, offset))
 
 
 POSITIONS = {"WorldPosition": _world, "RoadPosition": _road_position, "LanePosition": _lane_position}

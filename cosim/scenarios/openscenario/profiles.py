@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from typing import Any, Mapping
 
 from .actions import Dynamics, LaneChange, SpeedChange
-from .conditions import AtDistance, AtPosition, AtTime, AtTtc
+from .conditions import AtDistance, AtPosition, AtTime, AtTtc, AtTtcPoint
 from .entities import Body
 from .frame import Frame
 from .opendrive import Road
@@ -87,6 +87,9 @@ def trigger(cond: Any, actor: Actor, ego: str) -> tuple[str, float]:
         if closing <= 0.0:
             raise fail(cond.elem, f"time to collision with a closing speed of {closing:g} m/s: never reached")
         return "at_gap_m", _gap_from_reference(actor, cond.ttc_s * closing, cond.freespace)
+    if isinstance(cond, AtTtcPoint):
+        raise unsupported(cond.elem, "a time to collision with a position to start a speed or lane change: crd "
+                                     "starts a trajectory so, these by time or the ego's gap")
     return _reach(cond, actor, ego)
 
 

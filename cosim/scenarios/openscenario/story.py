@@ -14,11 +14,11 @@ from dataclasses import dataclass, field
 from typing import Mapping
 
 from .actions import LaneChange, SpeedChange, Teleport, read_action, read_private_action
-from .conditions import AtDistance, AtPosition, AtTime, AtTtc, read_trigger
+from .conditions import AtDistance, AtPosition, AtTime, AtTtc, AtTtcPoint, read_trigger
 from .opendrive import Road
 from .xml_source import Element, attr, child, children, fail, number, only, unsupported
 
-Condition = AtTime | AtDistance | AtTtc | AtPosition
+Condition = AtTime | AtDistance | AtTtc | AtTtcPoint | AtPosition
 
 
 @dataclass(frozen=True)

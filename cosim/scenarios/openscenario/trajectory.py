@@ -1,12 +1,12 @@
 """``<FollowTrajectoryAction>`` with a ``<Polyline>`` shape: an object's ``[objects.trajectory]``.
 
 Read: ``<Trajectory closed="false">`` (1.0, or inside ``<TrajectoryRef>`` from 1.1) (its ``<ParameterDeclarations>`` empty) whose ``<Shape>`` is a
-``<Polyline>`` of two or more ``<Vertex>`` with a world, road or lane ``<Position>`` (a vertex's
-``time`` is read and has no effect: with ``<TimeReference><None/>`` OpenSCENARIO 1.x moves the
-entity at its own speed); ``<TimeReference><None/>``; ``<TrajectoryFollowingMode
-followingMode="position">``; ``initialDistanceOffset`` 0. Refused with a one-line error: the
-``<Clothoid>`` and ``<Nurbs>`` shapes, a ``<Timing>`` reference, a closed trajectory, a trajectory
-from a catalogue, the ``follow`` mode.
+``<Polyline>`` of two or more ``<Vertex>`` with a world, road or lane ``<Position>`` and an optional
+``time``; ``<TimeReference>`` ``<None/>`` (the entity moves at its own speed; vertex times have no
+effect) or ``<Timing domainAbsoluteRelative scale offset>`` (every vertex needs its time; what crd
+makes of them: :mod:`.trajectory_keys`); ``<TrajectoryFollowingMode followingMode="position">``;
+``initialDistanceOffset`` 0. Refused with a one-line error: the ``<Clothoid>`` and ``<Nurbs>``
+shapes, a closed trajectory, a trajectory from a catalogue, the ``follow`` mode.
 
 The vertices are the entity's reference point; crd's trajectory moves the box's centre, so each
 vertex moves by the box centre's offset turned to the heading of the segment that leaves it (the
@@ -20,35 +20,53 @@ from dataclasses import dataclass
 from typing import Mapping
 
 from .opendrive import Road
-from .positions import read_position
-from .xml_source import Element, attr, child, children, dispatch, fail, number, one_child, only, unsupported
+from .positions import Pose, read_position
+from .xml_source import Element, attr, child, children, choice, dispatch, fail, number, one_child, only, unsupported
+
+
+@dataclass(frozen=True)
+class Timing:
+    """``<Timing>``: a vertex time ``tau`` is at ``offset + scale tau``, absolute or after the action's start."""
+
+    absolute: bool
+    scale: float
+    offset_s: float
+    elem: Element
 
 
 @dataclass(frozen=True)
 class FollowTrajectory:
-    """The polyline's vertices (world x, y of the reference point)."""
+    """The polyline's vertices (world x, y of the reference point), their positions, times and timing."""
 
     vertices: tuple[tuple[float, float], ...]
     elem: Element
+    poses: tuple[Pose, ...] = ()
+    times: tuple[float | None, ...] = ()
+    timing: Timing | None = None
 
 
-def _no_timing(elem: Element) -> None:
-    kind = one_child(elem)
-    if kind.tag != "None":
-        raise unsupported(kind, "a timing reference: crd's object moves at its own speed (<TimeReference><None/>)")
+def _timing(elem: Element) -> Timing | None:
+    kind = one_child(elem, ("None", "Timing"))
+    only(kind, ())
+    if kind.tag == "None":
+        return None
+    domain = choice(kind, "domainAbsoluteRelative", ("absolute", "relative"))
+    scale = number(kind, "scale")
+    if scale <= 0.0:
+        raise fail(kind, f"scale: expected > 0, got {scale:g}")
+    return Timing(domain == "absolute", scale, number(kind, "offset"), kind)
 
 
-def _polyline(elem: Element, roads: Mapping[str, Road]) -> tuple[tuple[float, float], ...]:
+def _polyline(elem: Element, roads: Mapping[str, Road]) -> tuple[tuple[Pose, ...], tuple[float | None, ...]]:
     vertices = only(elem, ("Vertex",))
     if len(vertices) < 2:
         raise fail(elem, f"expected two or more <Vertex>, got {len(vertices)}")
-    out = []
+    poses, times = [], []
     for v in vertices:
         only(v, ("Position",))
-        number(v, "time", 0.0)
-        pose = read_position(child(v, "Position"), roads)
-        out.append((pose.x_m, pose.y_m))
-    return tuple(out)
+        times.append(number(v, "time") if v.get("time") is not None else None)
+        poses.append(read_position(child(v, "Position"), roads))
+    return tuple(poses), tuple(times)
 
 
 def _curve(elem: Element, roads: Mapping[str, Road]) -> None:  # noqa: ARG001 - one handler signature
@@ -58,7 +76,7 @@ def _curve(elem: Element, roads: Mapping[str, Road]) -> None:  # noqa: ARG001 - 
 SHAPES = {"Polyline": _polyline, "Clothoid": _curve, "Nurbs": _curve}
 
 
-def _trajectory(elem: Element, roads: Mapping[str, Road]) -> tuple[tuple[float, float], ...]:
+def _trajectory(elem: Element, roads: Mapping[str, Road]) -> tuple[tuple[Pose, ...], tuple[float | None, ...]]:
     only(elem, ("ParameterDeclarations", "Shape"))
     attr(elem, "name")
     if attr(elem, "closed", "false") != "false":
@@ -77,10 +95,13 @@ def read_follow_trajectory(elem: Element, roads: Mapping[str, Road]) -> FollowTr
     mode = child(elem, "TrajectoryFollowingMode", False)
     if mode is not None and attr(mode, "followingMode") != "position":
         raise unsupported(mode, "followingMode: crd's objects follow the path exactly (position)")
-    _no_timing(child(elem, "TimeReference"))
+    timing = _timing(child(elem, "TimeReference"))
     ref = child(elem, "TrajectoryRef", False)
     trajectory = child(elem, "Trajectory") if ref is None else one_child(ref, ("Trajectory",))
-    return FollowTrajectory(_trajectory(trajectory, roads), elem)
+    poses, times = _trajectory(trajectory, roads)
+    if timing is not None and None in times:
+        raise fail(trajectory, "a <Timing> reference needs a time on every <Vertex>")
+    return FollowTrajectory(tuple((p.x_m, p.y_m) for p in poses), elem, poses, times, timing)
 
 
 def centre_path(vertices: tuple[tuple[float, float], ...], cx_m: float, cy_m: float) -> list[tuple[float, float]]:
