@@ -101,10 +101,30 @@ def _hide_unused_asammdf(argv: list[str]) -> None:
         sys.modules.setdefault("asammdf", None)
 
 
+def _exit_quickly() -> None:
+    """The ``crd`` command is about to exit: freeze every object it holds (:func:`gc.freeze`), so that the
+    interpreter's last collections, as it shuts down, skip them (the OS takes the memory back whole).
+    Those collections walk every object matplotlib, numpy, fmpy and crd made: measured (issue 20) 0.46 s
+    of CPU after ``crd paper`` returned, 0.07 s with the freeze (medians of 4, shared machine), all of it
+    on one core after the last figure: ADD FIGURE of ``crd paper``'s wall time. Only the ``crd`` command
+    does this, never a call in process (there the objects live on)."""
+    import gc
+
+    gc.freeze()
+
+
 def main(argv: list[str] | None = None) -> int:
     if argv is None:  # the crd command, not a call in process
         _hide_unused_asammdf(sys.argv[1:])
-    argv = list(sys.argv[1:] if argv is None else argv)
+        try:
+            return _main(sys.argv[1:])
+        finally:
+            _exit_quickly()
+    return _main(argv)
+
+
+def _main(argv: list[str]) -> int:
+    argv = list(argv)
     parser = _build_parser(argv)
     args = parser.parse_args(argv)
     logging.basicConfig(

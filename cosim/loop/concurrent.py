@@ -31,6 +31,7 @@ of ``strategies`` (``tests/cosim/test_concurrent_runs.py``).
 
 from __future__ import annotations
 
+import gc
 import multiprocessing
 import os
 import signal
@@ -44,7 +45,7 @@ from ..errors import CosimError
 from ..results.held_signals import SIGNALS, signals_held
 from ..results.run_record import RunRecord
 
-__all__ = ["Job", "OnRecord", "RunFailed", "cores", "run_concurrently"]
+__all__ = ["Job", "OnRecord", "RunFailed", "cores", "forking", "run_concurrently"]
 
 #: one run: strategy -> its record
 Job = Callable[[str], RunRecord]
@@ -78,6 +79,26 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
+@contextmanager
+def forking() -> Iterator[None]:
+    """Around a fork of this process into a pool's worker (a ``submit`` that starts it): the objects this
+    process holds are frozen meanwhile (:func:`gc.freeze`, as the :mod:`gc` documentation advises before a
+    fork without exec), so the worker's collector never walks (nor copies, page by page) what it inherits;
+    here they are unfrozen again at once. Measured on ``crd paper`` (issue 20, with the freeze in
+    :mod:`cosim.cli.main` at exit): ADD FIGURE.
+
+    Python 3.12+ warns of any fork beside other threads; those here are the running pools' own, whose
+    locks the worker never takes (module docstring)."""
+    gc.freeze()
+    try:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", r"This process .* is multi-threaded, use of fork\(\)",
+                                    DeprecationWarning)
+            yield
+    finally:
+        gc.unfreeze()
+
+
 def _start_worker(job: Job) -> None:
     """A worker's set-up: its own process group (module docstring); ``job`` comes through the fork."""
     global _job
@@ -102,11 +123,7 @@ class _Worker:
         self.pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("fork"),
                                         initializer=_start_worker, initargs=(job,))
         known = set(multiprocessing.active_children())
-        with warnings.catch_warnings():
-            # Python 3.12+ warns of any fork beside other threads; those here are the running pools' own,
-            # whose locks the worker never takes (module docstring)
-            warnings.filterwarnings("ignore", r"This process .* is multi-threaded, use of fork\(\)",
-                                    DeprecationWarning)
+        with forking():
             self.future: Future = self.pool.submit(_run, strategy)  # forks the worker
         self.process = next(p for p in multiprocessing.active_children() if p not in known)
 
