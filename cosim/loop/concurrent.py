@@ -19,7 +19,9 @@ of ``strategies`` (``tests/cosim/test_concurrent_runs.py``).
   them one after the other);
 * **the workers only run**: this process takes each record as it comes (``crd paper`` draws its
   timeline), and does work of its own while the first runs go (``meanwhile``: ``crd paper`` imports
-  matplotlib then, which each worker would otherwise import again);
+  matplotlib then, which each worker would otherwise import again, and forks the
+  :class:`~cosim.loop.plot_process.PlotProcess` that draws its last figure beside the last timeline);
+* **the heap frozen around each fork** (:func:`forking`): a worker's collector never walks what it inherits;
 * **signals**: a worker has its own process group, so a terminal's Ctrl-C reaches crd alone. Each
   SIGINT/SIGTERM crd gets while runs go is passed on to every worker: the first ends each run with its
   results so far, and no new run starts; a second one ends the workers at once (SIGKILL), as it ends

@@ -30,14 +30,11 @@ from .plot_process import PlotProcess
 from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
-from ..results.birdseye import plot_run
 from ..results.plots import preload_matplotlib, speed_profiles, timeline
 from ..results.report import Verdict, fmt, write_report
 from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
 from ..results.run_record import RunRecord, timeseries_columns
-from ..results.run_view import SCENE_FILE
-from ..results.scene_file import scene_of, write_scene
 from ..scenarios.config import Scenario
 from ..world.plant import isolation_of
 from ..world.fmu_share import fmu_shared
@@ -148,7 +145,10 @@ def _start_dir(out_dir: Path, scenario: Scenario) -> None:
     scenario, ``scene.json``, the bird's-eye view's static part (docs/run-format.md)."""
     out_dir.mkdir(parents=True, exist_ok=True)
     write_metrics(out_dir / "metrics.json", [], provenance(scenario, []), "running")
-    if scenario.planar:
+    if scenario.planar:  # the planar modules imported here: a 1-D run (crd paper) needs none of them
+        from ..results.run_view import SCENE_FILE
+        from ..results.scene_file import scene_of, write_scene
+
         write_scene(out_dir / SCENE_FILE, scene_of(scenario))
 
 
@@ -316,6 +316,8 @@ def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], j
     plots = [("speed against position", "speed_profiles.png")]
     plots += [(f"{r.strategy}: timeline", f"{r.strategy}/timeline.png") for r in records]
     if scenario.planar:
+        from ..results.birdseye import plot_run
+
         plots += plot_run(out_dir, [r.strategy for r in records if (out_dir / r.strategy / "timeseries.csv").is_file()])
     try:
         verdicts = judge(records)
