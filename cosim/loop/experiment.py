@@ -206,7 +206,7 @@ def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callab
 
     def on_record(record: RunRecord, done: list[RunRecord]) -> None:
         if len(done) == len(strategies):  # the last record: every run's figure there, this timeline here
-            profiles.append(plots.submit(speed_profiles, *_speed_profiles(out_dir, scenario, done)))
+            profiles.append(plots.submit(speed_profiles, *_speed_profiles_args(out_dir, scenario, done)))
         timeline(out_dir / record.strategy / "timeline.png", record)
         write_metrics(out_dir / "metrics.json", done, provenance(scenario, done), "running")
 
@@ -229,7 +229,7 @@ def _frames_on_disk(run: Callable[..., RunRecord], strategy: str) -> RunRecord:
     return record
 
 
-def _speed_profiles(out_dir: Path, scenario: Scenario, records: Sequence[RunRecord]) -> tuple:
+def _speed_profiles_args(out_dir: Path, scenario: Scenario, records: Sequence[RunRecord]) -> tuple:
     """The arguments of :func:`~cosim.results.plots.speed_profiles` for ``speed_profiles.png``: every run's
     speed against position (claim 4's split marked for the paper's runs)."""
     obj = scenario.object
@@ -312,7 +312,7 @@ def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], j
     resolved = out_dir / "config.resolved.toml"
     write_resolved_config(resolved, scenario, ecu_config(scenario, records[0].strategy), prov)
     if not profiles_drawn:
-        speed_profiles(*_speed_profiles(out_dir, scenario, records))
+        speed_profiles(*_speed_profiles_args(out_dir, scenario, records))
     plots = [("speed against position", "speed_profiles.png")]
     plots += [(f"{r.strategy}: timeline", f"{r.strategy}/timeline.png") for r in records]
     if scenario.planar:
