@@ -21,7 +21,6 @@ of ``strategies`` (``tests/cosim/test_concurrent_runs.py``).
   timeline), and does work of its own while the first runs go (``meanwhile``: ``crd paper`` imports
   matplotlib then, which each worker would otherwise import again, and forks the
   :class:`~cosim.loop.plot_process.PlotProcess` that draws its last figure beside the last timeline);
-* **the heap frozen around each fork** (:func:`forking`): a worker's collector never walks what it inherits;
 * **signals**: a worker has its own process group, so a terminal's Ctrl-C reaches crd alone. Each
   SIGINT/SIGTERM crd gets while runs go is passed on to every worker: the first ends each run with its
   results so far, and no new run starts; a second one ends the workers at once (SIGKILL), as it ends
@@ -33,7 +32,6 @@ of ``strategies`` (``tests/cosim/test_concurrent_runs.py``).
 
 from __future__ import annotations
 
-import gc
 import multiprocessing
 import os
 import signal
@@ -83,22 +81,17 @@ def cores() -> int:
 
 @contextmanager
 def forking() -> Iterator[None]:
-    """Around a fork of this process into a pool's worker (a ``submit`` that starts it): the objects this
-    process holds are frozen meanwhile (:func:`gc.freeze`, as the :mod:`gc` documentation advises before a
-    fork without exec), so the worker's collector never walks (nor copies, page by page) what it inherits;
-    here they are unfrozen again at once. Measured on ``crd paper`` (issue 20, with the freeze in
-    :mod:`cosim.cli.main` at exit): ADD FIGURE.
+    """Around a fork of this process into a pool's worker (a ``submit`` that starts it). Python 3.12+ warns of
+    any fork beside other threads; those here are the running pools' own, whose locks the worker never takes
+    (module docstring).
 
-    Python 3.12+ warns of any fork beside other threads; those here are the running pools' own, whose
-    locks the worker never takes (module docstring)."""
-    gc.freeze()
-    try:
-        with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", r"This process .* is multi-threaded, use of fork\(\)",
-                                    DeprecationWarning)
-            yield
-    finally:
-        gc.unfreeze()
+    Not done here (issue 20, measured): freezing the heap for the fork (:func:`gc.freeze`, so that a worker's
+    collector never walks what it inherits) took ``crd paper``'s CPU, all processes, from 8.09 to 7.37 s
+    (-9 %; 7.15 to 6.74 s beside the freeze at exit of :mod:`cosim.cli.main`), medians of 3 alternating
+    rounds at load average 25-29: under the 10 % a piece of machinery must buy."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", r"This process .* is multi-threaded, use of fork\(\)", DeprecationWarning)
+        yield
 
 
 def _start_worker(job: Job) -> None:

@@ -3,9 +3,9 @@
 When the last run of ``crd paper`` ends, two figures are left: its ``timeline.png`` and
 ``speed_profiles.png``, the figure of every run. Drawn one after the other they take about
 0.3 s each on one core while the other core is idle. :class:`PlotProcess` is a
-:class:`~concurrent.futures.ProcessPoolExecutor` of one worker, forked (:func:`~cosim.loop.concurrent.forking`)
-once matplotlib is imported here, so it draws without importing it again; the caller hands it one
-figure and draws the other itself.
+:class:`~concurrent.futures.ProcessPoolExecutor` of one worker, forked once matplotlib is imported
+here, so it draws without importing it again; the caller hands it one figure and draws the other
+itself (measured: ``benchmarks/paper_phases.py``).
 
 The worker has its own process group (a terminal's Ctrl-C reaches crd alone) and blocks SIGINT and
 SIGTERM: a figure it has been given is drawn whole; crd decides what happens on a signal.
