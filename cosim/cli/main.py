@@ -101,10 +101,31 @@ def _hide_unused_asammdf(argv: list[str]) -> None:
         sys.modules.setdefault("asammdf", None)
 
 
+def _exit_quickly() -> None:
+    """The ``crd`` command is about to exit: freeze every object it holds (:func:`gc.freeze`), so that the
+    interpreter's last collections, as it shuts down, skip them (the OS takes the memory back whole).
+    Those collections walk every object matplotlib, numpy, fmpy and crd made, on one core after the
+    command's last figure. Measured (issue 20, ``crd paper``, CPU of all its processes, medians of 3
+    alternating rounds at load average 25-29): 8.09 s without, 7.15 s with the freeze (-12 %); the
+    shutdown alone, after ``main`` returned: 0.46 s of CPU without, 0.07 s with (medians of 4). Only the
+    ``crd`` command does this, never a call in process (there the objects live on)."""
+    import gc
+
+    gc.freeze()
+
+
 def main(argv: list[str] | None = None) -> int:
     if argv is None:  # the crd command, not a call in process
         _hide_unused_asammdf(sys.argv[1:])
-    argv = list(sys.argv[1:] if argv is None else argv)
+        try:
+            return _main(sys.argv[1:])
+        finally:
+            _exit_quickly()
+    return _main(argv)
+
+
+def _main(argv: list[str]) -> int:
+    argv = list(argv)
     parser = _build_parser(argv)
     args = parser.parse_args(argv)
     logging.basicConfig(

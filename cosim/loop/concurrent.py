@@ -19,7 +19,8 @@ of ``strategies`` (``tests/cosim/test_concurrent_runs.py``).
   them one after the other);
 * **the workers only run**: this process takes each record as it comes (``crd paper`` draws its
   timeline), and does work of its own while the first runs go (``meanwhile``: ``crd paper`` imports
-  matplotlib then, which each worker would otherwise import again);
+  matplotlib then, which each worker would otherwise import again, and forks the
+  :class:`~cosim.loop.plot_process.PlotProcess` that draws its last figure beside the last timeline);
 * **signals**: a worker has its own process group, so a terminal's Ctrl-C reaches crd alone. Each
   SIGINT/SIGTERM crd gets while runs go is passed on to every worker: the first ends each run with its
   results so far, and no new run starts; a second one ends the workers at once (SIGKILL), as it ends
@@ -44,7 +45,7 @@ from ..errors import CosimError
 from ..results.held_signals import SIGNALS, signals_held
 from ..results.run_record import RunRecord
 
-__all__ = ["Job", "OnRecord", "RunFailed", "cores", "run_concurrently"]
+__all__ = ["Job", "OnRecord", "RunFailed", "cores", "forking", "run_concurrently"]
 
 #: one run: strategy -> its record
 Job = Callable[[str], RunRecord]
@@ -78,6 +79,21 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
+@contextmanager
+def forking() -> Iterator[None]:
+    """Around a fork of this process into a pool's worker (a ``submit`` that starts it). Python 3.12+ warns of
+    any fork beside other threads; those here are the running pools' own, whose locks the worker never takes
+    (module docstring).
+
+    Not done here (issue 20, measured): freezing the heap for the fork (:func:`gc.freeze`, so that a worker's
+    collector never walks what it inherits) took ``crd paper``'s CPU, all processes, from 8.09 to 7.37 s
+    (-9 %; 7.15 to 6.74 s beside the freeze at exit of :mod:`cosim.cli.main`), medians of 3 alternating
+    rounds at load average 25-29: under the 10 % a piece of machinery must buy."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", r"This process .* is multi-threaded, use of fork\(\)", DeprecationWarning)
+        yield
+
+
 def _start_worker(job: Job) -> None:
     """A worker's set-up: its own process group (module docstring); ``job`` comes through the fork."""
     global _job
@@ -102,11 +118,7 @@ class _Worker:
         self.pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("fork"),
                                         initializer=_start_worker, initargs=(job,))
         known = set(multiprocessing.active_children())
-        with warnings.catch_warnings():
-            # Python 3.12+ warns of any fork beside other threads; those here are the running pools' own,
-            # whose locks the worker never takes (module docstring)
-            warnings.filterwarnings("ignore", r"This process .* is multi-threaded, use of fork\(\)",
-                                    DeprecationWarning)
+        with forking():
             self.future: Future = self.pool.submit(_run, strategy)  # forks the worker
         self.process = next(p for p in multiprocessing.active_children() if p not in known)
 

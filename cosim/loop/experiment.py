@@ -19,23 +19,22 @@ import functools
 import logging
 import signal
 import threading
+from concurrent.futures import Future
 from pathlib import Path
 from typing import Callable, Sequence
 
 from ..link.ecu_link import EcuOptions
 from ..errors import PlantError, RunInterrupted
 from .concurrent import cores, run_concurrently
+from .plot_process import PlotProcess
 from .master import ClosedLoop, Progress, ecu_config
 from ..results import paper_claims
 from ..results.can_logs import check_can_logs
-from ..results.birdseye import plot_run
 from ..results.plots import preload_matplotlib, speed_profiles, timeline
 from ..results.report import Verdict, fmt, write_report
 from ..results.stream import RunStream, check_out_dir
 from ..results.writer import provenance, write_events, write_metrics, write_resolved_config
 from ..results.run_record import RunRecord, timeseries_columns
-from ..results.run_view import SCENE_FILE
-from ..results.scene_file import scene_of, write_scene
 from ..scenarios.config import Scenario
 from ..world.plant import isolation_of
 from ..world.fmu_share import fmu_shared
@@ -118,13 +117,13 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     """
     logs, fmu_path = _preflight(scenario, strategies, out_dir, can_logs)
     records: list[RunRecord] = []
-    status, error = "running", None
+    status, error, profiles_drawn = "running", None, False
     try:
         if out_dir is not None:
             _start_dir(out_dir, scenario)
         run = functools.partial(_run_one, scenario, fmu_path, out_dir=out_dir, logs=logs, progress=progress, ecu=ecu)
         series = _series(concurrent, strategies, ecu, fmu_path)
-        series(scenario, strategies, run, records, out_dir)
+        profiles_drawn = series(scenario, strategies, run, records, out_dir)
         status = _series_status(records)
     except KeyboardInterrupt as exc:
         status, error = "interrupted", str(exc)
@@ -135,7 +134,7 @@ def run_strategies(scenario: Scenario, strategies: Sequence[str], out_dir: Path 
     finally:
         if out_dir is not None:
             _write_summary(out_dir, scenario, records, judge or (lambda recs: check_verdicts(scenario, recs)),
-                           status, error)
+                           status, error, profiles_drawn)
     if status == "interrupted":
         raise _interrupted(next(r for r in records if r.interrupted), out_dir)
     return records
@@ -146,7 +145,10 @@ def _start_dir(out_dir: Path, scenario: Scenario) -> None:
     scenario, ``scene.json``, the bird's-eye view's static part (docs/run-format.md)."""
     out_dir.mkdir(parents=True, exist_ok=True)
     write_metrics(out_dir / "metrics.json", [], provenance(scenario, []), "running")
-    if scenario.planar:
+    if scenario.planar:  # the planar modules imported here: a 1-D run (crd paper) needs none of them
+        from ..results.run_view import SCENE_FILE
+        from ..results.scene_file import scene_of, write_scene
+
         write_scene(out_dir / SCENE_FILE, scene_of(scenario))
 
 
@@ -158,8 +160,9 @@ def _series_status(records: Sequence[RunRecord]) -> str:
 
 
 def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
-                 records: list[RunRecord], out_dir: Path | None) -> None:
-    """One run after the other; stops after a run ended by a signal."""
+                 records: list[RunRecord], out_dir: Path | None) -> bool:
+    """One run after the other; stops after a run ended by a signal. ``speed_profiles.png`` is left to the
+    summary (False)."""
     for i, strategy in enumerate(strategies):
         record = run(strategy, last=i == len(strategies) - 1)
         records.append(record)
@@ -167,10 +170,11 @@ def _run_in_turn(scenario: Scenario, strategies: Sequence[str], run: Callable[..
             break
         if out_dir is not None:
             write_metrics(out_dir / "metrics.json", records, provenance(scenario, records), "running")
+    return False
 
 
 def _series(concurrent: bool, strategies: Sequence[str], ecu: EcuOptions | None,
-            fmu_path: Path) -> Callable[..., None]:
+            fmu_path: Path) -> Callable[..., bool]:
     """Side by side (:func:`_run_concurrently`) when ``concurrent`` and :func:`_can_run_concurrently`,
     else one after the other (:func:`_run_in_turn`)."""
     if concurrent and _can_run_concurrently(strategies, ecu):
@@ -186,22 +190,35 @@ def _can_run_concurrently(strategies: Sequence[str], ecu: EcuOptions | None) -> 
 
 
 def _run_concurrently(scenario: Scenario, strategies: Sequence[str], run: Callable[..., RunRecord],
-                      records: list[RunRecord], out_dir: Path | None, fmu_path: Path) -> None:
-    """The runs in worker processes (:func:`cosim.loop.concurrent.run_concurrently`); here, each run's
-    timeline and ``metrics.json`` as its record comes in, and matplotlib imported while the first runs go.
-    A plant in this process is prepared once (:func:`~cosim.world.fmu_share.fmu_shared`: hashed, parsed,
-    extracted), and every worker inherits it."""
-
-    def on_record(record: RunRecord, done: list[RunRecord]) -> None:
-        if out_dir is not None:
-            timeline(out_dir / record.strategy / "timeline.png", record)
-            write_metrics(out_dir / "metrics.json", done, provenance(scenario, done), "running")
-
+                      records: list[RunRecord], out_dir: Path | None, fmu_path: Path) -> bool:
+    """The runs in worker processes (:func:`cosim.loop.concurrent.run_concurrently`); here, matplotlib imported
+    while the first runs go, then each run's timeline and ``metrics.json`` as its record comes in. When every
+    record is in, ``speed_profiles.png`` is drawn in a :class:`~cosim.loop.plot_process.PlotProcess` beside the
+    last timeline (True: drawn). A plant in this process is prepared once
+    (:func:`~cosim.world.fmu_share.fmu_shared`: hashed, parsed, extracted), and every worker inherits it."""
     job = functools.partial(_frames_on_disk, run) if out_dir is not None else functools.partial(run, plot=False)
     shared = fmu_shared(fmu_path) if isolation_of(scenario.plant) == "inprocess" else contextlib.nullcontext()
-    with shared:
-        run_concurrently(strategies, job, records, on_record, jobs=cores(),
-                         meanwhile=preload_matplotlib if out_dir is not None else None)
+    if out_dir is None:
+        with shared:
+            run_concurrently(strategies, job, records, lambda record, done: None, jobs=cores())
+        return False
+    profiles: list[Future] = []
+
+    def on_record(record: RunRecord, done: list[RunRecord]) -> None:
+        if len(done) == len(strategies):  # the last record: every run's figure there, this timeline here
+            profiles.append(plots.submit(speed_profiles, *_speed_profiles_args(out_dir, scenario, done)))
+        timeline(out_dir / record.strategy / "timeline.png", record)
+        write_metrics(out_dir / "metrics.json", done, provenance(scenario, done), "running")
+
+    def meanwhile() -> None:
+        preload_matplotlib()
+        plots.start()
+
+    with shared, PlotProcess() as plots:
+        run_concurrently(strategies, job, records, on_record, jobs=cores(), meanwhile=meanwhile)
+        for future in profiles:
+            future.result()
+    return bool(profiles)
 
 
 def _frames_on_disk(run: Callable[..., RunRecord], strategy: str) -> RunRecord:
@@ -212,12 +229,13 @@ def _frames_on_disk(run: Callable[..., RunRecord], strategy: str) -> RunRecord:
     return record
 
 
-def _speed_profiles(out_dir: Path, scenario: Scenario, records: Sequence[RunRecord]) -> None:
-    """``speed_profiles.png``: every run's speed against position (claim 4's split marked for the paper's runs)."""
+def _speed_profiles_args(out_dir: Path, scenario: Scenario, records: Sequence[RunRecord]) -> tuple:
+    """The arguments of :func:`~cosim.results.plots.speed_profiles` for ``speed_profiles.png``: every run's
+    speed against position (claim 4's split marked for the paper's runs)."""
     obj = scenario.object
     paper = set(paper_claims.REQUIRED) <= {r.strategy for r in records}
-    speed_profiles(out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None,
-                   split_m=paper_claims.SPLIT_POSITION_M if paper else None, object_name=obj.name)
+    return (out_dir / "speed_profiles.png", records, obj.position_m if obj.enabled else None,
+            paper_claims.SPLIT_POSITION_M if paper else None, obj.name)
 
 
 def _preflight(scenario: Scenario, strategies: Sequence[str], out_dir: Path | None,
@@ -273,28 +291,33 @@ def _run_one(scenario: Scenario, fmu_path: Path, strategy: str, out_dir: Path | 
 
 
 def _write_summary(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, status: str,
-                   error: str | None) -> None:
-    """``metrics.json`` first (the one file every way out must leave), then the config, plots and report."""
+                   error: str | None, profiles_drawn: bool = False) -> None:
+    """``metrics.json`` first (the one file every way out must leave), then the config, plots and report
+    (``profiles_drawn``: ``speed_profiles.png`` is there already)."""
     prov = provenance(scenario, records)
     write_metrics(out_dir / "metrics.json", records, prov, status, error)
     if not records:
         return
     try:
-        _write_report(out_dir, scenario, records, judge, prov)
+        _write_report(out_dir, scenario, records, judge, prov, profiles_drawn)
     except Exception as exc:  # noqa: BLE001 - on the way out of a failed run, never mask its error
         if status == "complete":
             raise
         log.warning("could not write the summary files after the run stopped (%s): %s", status, exc)
 
 
-def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, prov: dict) -> None:
-    """``config.resolved.toml``, ``speed_profiles.png`` and ``report.md``."""
+def _write_report(out_dir: Path, scenario: Scenario, records: list[RunRecord], judge: Judge, prov: dict,
+                  profiles_drawn: bool) -> None:
+    """``config.resolved.toml``, ``speed_profiles.png`` (unless drawn) and ``report.md``."""
     resolved = out_dir / "config.resolved.toml"
     write_resolved_config(resolved, scenario, ecu_config(scenario, records[0].strategy), prov)
-    _speed_profiles(out_dir, scenario, records)
+    if not profiles_drawn:
+        speed_profiles(*_speed_profiles_args(out_dir, scenario, records))
     plots = [("speed against position", "speed_profiles.png")]
     plots += [(f"{r.strategy}: timeline", f"{r.strategy}/timeline.png") for r in records]
     if scenario.planar:
+        from ..results.birdseye import plot_run
+
         plots += plot_run(out_dir, [r.strategy for r in records if (out_dir / r.strategy / "timeseries.csv").is_file()])
     try:
         verdicts = judge(records)

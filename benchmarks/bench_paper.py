@@ -1,0 +1,74 @@
+"""``crd paper`` as a user runs it, from several source trees side by side (issue 20: <= 2.5 s wall).
+
+Run: ``python benchmarks/bench_paper.py [--repeat N] TREE [TREE ...]`` where each TREE is a worktree
+with its own venv (``TREE/.venv/bin/crd``); the first is the reference of the ratios. Example::
+
+    .venv/bin/python benchmarks/bench_paper.py --repeat 9 . /work/main /work/wt/base0
+
+Each round runs ``TREE/.venv/bin/crd paper --out <tmp>`` once per tree, alternating, so a neighbour's
+burst on a shared machine lands on every tree alike. Per tree: the median (min..max) of the wall time
+and of the CPU time (user + sys of ``crd`` and every process it started, from ``RUSAGE_CHILDREN``:
+less disturbed by neighbours than the wall time, and the sum of the work on both cores), each tree's
+ratio to the first, and the load average seen before each run (so a noisy run shows itself).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import statistics
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+
+
+def crd_paper(tree: Path) -> tuple[float, float]:
+    """(wall s, CPU s of ``crd paper`` and its children) from ``tree``'s venv; an exit code other than 0 stops."""
+    crd = tree / ".venv" / "bin" / "crd"
+    with tempfile.TemporaryDirectory() as out:
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        proc = subprocess.run([str(crd), "paper", "--out", out], capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if proc.returncode != 0:
+        raise SystemExit(f"{crd} paper exited with {proc.returncode}:\n{proc.stderr[-2000:]}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
+def _spread(values: list[float]) -> str:
+    return f"{statistics.median(values):5.2f} ({min(values):.2f}..{max(values):.2f})"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("trees", nargs="+", type=Path, help="worktrees with a venv; the first is the reference")
+    parser.add_argument("--repeat", type=int, default=7, help="rounds (default 7)")
+    args = parser.parse_args()
+    trees = [t.resolve() for t in args.trees]
+    for tree in trees:
+        crd_paper(tree)  # warm up: the FMU cache, the page cache
+    wall: dict[Path, list[float]] = {t: [] for t in trees}
+    cpu: dict[Path, list[float]] = {t: [] for t in trees}
+    loads: list[float] = []
+    for _ in range(max(1, args.repeat)):
+        for tree in trees:
+            loads.append(os.getloadavg()[0])
+            w, c = crd_paper(tree)
+            wall[tree].append(w)
+            cpu[tree].append(c)
+    ref = trees[0]
+    print(f"crd paper, {args.repeat} alternating rounds; median (min..max) s; ratio to {ref}")
+    print(f"load average (1 min) before each run: median {statistics.median(loads):.2f}, "
+          f"{min(loads):.2f}..{max(loads):.2f}, on {os.cpu_count()} cores")
+    for tree in trees:
+        rw = statistics.median(wall[tree]) / statistics.median(wall[ref])
+        rc = statistics.median(cpu[tree]) / statistics.median(cpu[ref])
+        print(f"  {str(tree):<24} wall {_spread(wall[tree])} x{rw:.2f}   CPU {_spread(cpu[tree])} x{rc:.2f}")
+
+
+if __name__ == "__main__":
+    main()
