@@ -72,6 +72,7 @@ class Frame(NamedTuple):
     """
 
     name: str
+    #: read only: the frames of one payload share it (``_DECODED``)
     signals: Mapping[str, float]
     counter: int
     fresh: bool
