@@ -62,7 +62,7 @@ class InputLatch:
         self.object_lateral_m = 0.0
         self.steering_wheel_rad = 0.0
         # the planar inputs, latched as decoded and converted only when read: the core does not use them yet
-        # (the planar ECU: next issue), and converting 2.6 frames a cycle for nobody cost about 4 us a cycle
+        # (the planar ECU: next issue): 1 + 8/5 frames a cycle were converted into records nobody read
         self._esc: Mapping[str, float] | None = None
         self._tracks: list[Mapping[str, float] | None] = [None] * len(TRACK_SLOTS)
         self.rx_t_s = {name: NEVER_S for name in INPUT_MESSAGES}
