@@ -52,14 +52,51 @@ def encode_payload(message_name: str, signals: Mapping[str, float], counter: int
     return _payload(layout, signals, counter)
 
 
+class _LastSignals:
+    """The signals one message was last encoded from, and the frames they gave, by counter.
+
+    Most frames of a cycle repeat the signals of the frame before them: the empty ``RadarTrack`` slots,
+    the inactive ``SteeringOverride``, the driver's pedals while he holds them, ``SafetyOverride``
+    outside an intervention. For those the payload is packed and its CRC computed once per counter
+    value, not once per frame: a dict comparison and a copy instead of the packing loop and the CRC
+    (the paper run, tightening: 24,000 of its 27,600 frames repeat the last signals of their message; a
+    repeated ``RadarTrack3`` encodes in 0.3x the time of a changed one, timeit in one process on the
+    loaded 2-core machine).
+    """
+
+    __slots__ = ("signals", "packed", "frames")
+
+    def __init__(self, signals: dict, packed: int) -> None:
+        self.signals, self.packed = signals, packed
+        #: the 8 bytes (CRC included) for each counter value, filled as the counters come round
+        self.frames: list[bytes | None] = [None] * COUNTER_MODULUS
+
+
+_LAST: dict[str, _LastSignals] = {}
+
+
 def _payload(layout: MessageLayout, signals: Mapping[str, float], counter: int) -> bytearray:
+    last = _LAST.get(layout.name)
+    if last is None or last.signals != signals:  # NaN never equals itself: a bad value is never reused
+        last = _LAST[layout.name] = _LastSignals(dict(signals), _packed(layout, signals))
+    if not (isinstance(counter, int) and 0 <= counter < COUNTER_MODULUS):
+        raise SignalError(f"{layout.name}: expected counter in 0..14, got {counter!r}")
+    frame = last.frames[counter]
+    if frame is None:  # this counter's first frame with these signals
+        data = bytearray((last.packed | counter << 8).to_bytes(FRAME_LENGTH, "little"))
+        data[0] = e2e_p01_crc8(layout.crc_seed, data)
+        last.frames[counter] = bytes(data)
+        return data
+    return bytearray(frame)
+
+
+def _packed(layout: MessageLayout, signals: Mapping[str, float]) -> int:
+    """The raw values of ``signals`` in their bits of the payload (CRC and counter bits 0)."""
     if len(signals) != len(layout.signals):
         extra = set(signals) - {s.name for s in layout.signals}
         if extra:
             raise SignalError(f"{layout.name}: unknown signals {sorted(extra)}")
-    if not (isinstance(counter, int) and 0 <= counter < COUNTER_MODULUS):
-        raise SignalError(f"{layout.name}: expected counter in 0..14, got {counter!r}")
-    payload = counter << 8
+    payload = 0
     try:
         for name, start, mask, scale, offset, raw_min, raw_max in layout.pack_table:
             raw = round((signals[name] - offset) / scale)  # inf, NaN or a missing name raise
@@ -68,9 +105,7 @@ def _payload(layout: MessageLayout, signals: Mapping[str, float], counter: int) 
             payload |= (raw & mask) << start
     except (KeyError, ValueError, OverflowError) as exc:
         raise _signal_error(layout, signals) from exc
-    data = bytearray(payload.to_bytes(FRAME_LENGTH, "little"))
-    data[0] = e2e_p01_crc8(layout.crc_seed, data)
-    return data
+    return payload
 
 
 class ContractMessage(can.Message):

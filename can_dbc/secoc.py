@@ -109,7 +109,7 @@ def load_key_file(path: str | Path) -> bytes:
 _MAC_INPUT_8 = struct.Struct(">H8sQ").pack
 
 
-def _mac_input(data_id: int, frame: bytes, fv: int) -> bytes:
+def _mac_input(data_id: int, frame: bytes | bytearray, fv: int) -> bytes:
     """M = data ID (2 bytes, big-endian) | protected frame | FV (8 bytes, big-endian)."""
     return _MAC_INPUT_8(data_id, frame, fv) if len(frame) == 8 else \
         b"".join((data_id.to_bytes(2, "big"), frame, fv.to_bytes(8, "big")))
@@ -130,7 +130,7 @@ class _Mac:
         self._base = CMAC(algorithms.AES(key))
         self._copy = self._base.copy
 
-    def mac(self, data_id: int, frame: bytes, fv: int) -> bytes:
+    def mac(self, data_id: int, frame: bytes | bytearray, fv: int) -> bytes:
         cmac = self._copy()
         cmac.update(_mac_input(data_id, frame, fv))
         return cmac.finalize()[:MAC_BYTES]
@@ -166,7 +166,7 @@ class SecOcVerifier(_Mac):
         super().__init__(key)
         self._last: dict[int, int] = {}
 
-    def verify(self, data_id: int, frame: bytes, auth: bytes) -> int:
+    def verify(self, data_id: int, frame: bytes | bytearray, auth: bytes | bytearray) -> int:
         """Accept ``frame`` with its authenticator payload ``auth``; returns FV or raises AuthError."""
         if len(auth) != 8:
             raise AuthError(f"0x{data_id:03X}: expected an 8-byte authenticator, got {len(auth)} bytes")

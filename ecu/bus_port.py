@@ -61,8 +61,10 @@ class InputLatch:
         self.object_range_rate_mps = 0.0
         self.object_lateral_m = 0.0
         self.steering_wheel_rad = 0.0
-        self.esc: EscDynamics | None = None  # latched, not used by the core yet (the planar ECU: next issue)
-        self.tracks: list[Track | None] = [None] * len(TRACK_SLOTS)
+        # the planar inputs, latched as decoded and converted only when read: the core does not use them yet
+        # (the planar ECU: next issue): 1 + 8/5 frames a cycle were converted into records nobody read
+        self._esc: Mapping[str, float] | None = None
+        self._tracks: list[Mapping[str, float] | None] = [None] * len(TRACK_SLOTS)
         self.rx_t_s = {name: NEVER_S for name in INPUT_MESSAGES}
 
     def ingest(self, frame: Frame, t_s: float) -> bool:
@@ -86,13 +88,23 @@ class InputLatch:
             self.object_range_rate_mps = s["ObjectRangeRate"]
             self.object_lateral_m = s["ObjectLateral"]
         elif name == "EscDynamics":
-            self.esc = esc_dynamics(s)
+            self._esc = s
         elif (slot := TRACK_SLOTS.get(name)) is not None:
-            self.tracks[slot] = track(s, slot)
+            self._tracks[slot] = s
         else:
             return False
         self.rx_t_s[name] = t_s
         return True
+
+    @property
+    def esc(self) -> EscDynamics | None:
+        """The latest ``EscDynamics`` (SI), None before the first."""
+        return None if self._esc is None else esc_dynamics(self._esc)
+
+    @property
+    def tracks(self) -> list[Track | None]:
+        """The latest track of each ``RadarTrack`` slot (SI), None for an empty slot or before its first frame."""
+        return [None if s is None else track(s, slot) for slot, s in enumerate(self._tracks)]
 
     def inputs(self, t_s: float, receiver: Receiver, node_flags: int = 0) -> CoreInputs:
         """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores and rate/sequence flags."""

@@ -175,7 +175,7 @@ class Gateway:
             self.fault_entries += 1
         self._started = self._started or mode != "FAULT"
         self.mode = mode
-        self._signals = frame.signals  # a dict of its own per frame (can_dbc.receiver._decode)
+        self._signals = frame.signals  # read only: frames of one payload share it (can_dbc.receiver._DECODED)
         self._last_fresh_t_s = t_s
         return True
 

@@ -44,9 +44,10 @@ _SPEED_RADAR, _INTERNAL = 1 << FaultFlag.SPEED_RADAR, 1 << FaultFlag.INTERNAL
 
 
 def _checked_speed(state: CoreState, inputs: CoreInputs, relevant: bool,
-                   params: CoreParams) -> tuple[Health, tuple[float, bool, float, int]]:
-    """(the input health after every check, the speed fields of the next state); ``relevant``: the object
-    is valid and in our path."""
+                   params: CoreParams) -> tuple[int, bool, Health, tuple[float, bool, float, int]]:
+    """(the flags and whether the wheels may be used, after every check; the input health of
+    :func:`input_health`; the speed fields of the next state); ``relevant``: the object is valid and in our
+    path. The checks' outcome beside the health, not a copy of it (``Health._replace`` cost 3 µs a cycle)."""
     flags, wheels_valid = input_validity(inputs, params)
     health = input_health(state, inputs, params)
     flags |= health.flags
@@ -55,7 +56,7 @@ def _checked_speed(state: CoreState, inputs: CoreInputs, relevant: bool,
     if wheels_ok and speed_radar_implausible(speed[0], inputs, relevant, params):
         flags |= _SPEED_RADAR
         wheels_ok = False
-    return health._replace(flags=flags, wheels_ok=wheels_ok), speed
+    return flags, wheels_ok, health, speed
 
 
 def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[CoreState, CoreOutputs]:
@@ -63,8 +64,9 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     track = next_track(state.track, inputs, params)
     confirmed_track = confirmed(track, params)
     relevant = confirmed_track and inputs.object_valid and in_path(inputs.object_lateral_m, params)
-    health, (speed, initialised, free_mean, since_brake) = _checked_speed(state, inputs, relevant, params)
-    flags, wheels_ok, driver_ok = health.flags, health.wheels_ok, health.driver_ok
+    flags, wheels_ok, health, (speed, initialised, free_mean, since_brake) = _checked_speed(
+        state, inputs, relevant, params)
+    driver_ok = health.driver_ok
     fault = flags & ~REPORT_ONLY_FLAGS
     estimate, decel_mps2 = params.strategy_rules.cycle_decel(state, inputs, speed, wheels_ok, params)
     cycle_plan = plan(speed, inputs, relevant, decel_mps2, params)
