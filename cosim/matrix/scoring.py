@@ -32,6 +32,8 @@ class Outcome:
     sim_time_s: float
     wall_time_s: float
     error: str | None = None
+    #: a planar cell's additions (:class:`cosim.matrix.planar_outcome.PlanarOutcome`); None in the 1-D world
+    planar: Any = None
 
 
 def interventions(modes: Sequence[str]) -> int:
