@@ -110,7 +110,7 @@ def _curve_road(cell: SceneCell, right: tuple[float, ...] = (LANE_M,)) -> tuple[
     k = (1.0 if lay["curve_turn"] == "left" else -1.0) / lay["curve_radius_m"]
     first = cell.x0 - ROAD_START_M + cell.v * cell.t_start + 10.0
     arc = math.radians(lay["curve_angle_deg"]) * lay["curve_radius_m"]
-    road = straight_road(first, right=right)
+    road = straight_road(ROAD_START_M + first, right=right)  # its line is `first` long: the arc starts at s = first
     road["geometry"] += [{"kind": "arc", "length_m": arc, "curvature_1pm": k}, {"kind": "line", "length_m": 300.0}]
     plan = PlanView.chained([Line(first), Arc(arc, k), Line(300.0)], ROAD_START_M, road["y_m"], 0.0)
     return road, plan, first, k
