@@ -82,7 +82,7 @@ def _queue(cell: SceneCell) -> list[dict[str, Any]]:
     if cell.layout["adjacent"] == "free":
         return []
     beside = -(cell.ego_length_m + 4.023) / 2.0  # a GVT's rear when its centre is level with the ego's
-    return [{"name": f"adjacent {i + 1}", "target_class": "GVT", "position_m": beside - back + cell.x0,
+    return [{"name": f"adjacent {i + 1}", "target_class": "GVT", "position_m": beside - back,
              "speed_mps": cell.v, "lateral_m": LANE_M} for i, back in enumerate((0.0, 15.0 + 4.023, 30.0 + 2 * 4.023))]
 
 
@@ -97,8 +97,8 @@ def cut_out_reveal(cell: SceneCell) -> dict[str, Any]:
     lay, v = cell.layout, cell.v
     lead_len = cell.target["length_m"]
     x_stop = cell.x0 + v * (cell.t_start + 2.0 + lay["reveal_ttc_s"])  # the stopped car's rear
-    t_cut = (x_stop - cell.x0) / v - lay["reveal_ttc_s"]
-    x_lead0 = cell.x0 + lay["headway_s"] * v + lead_len / 2.0
+    t_cut = x_stop / v - lay["reveal_ttc_s"]  # the ego's front reaches reveal_ttc_s before it
+    x_lead0 = lay["headway_s"] * v + lead_len / 2.0  # at the ego's speed: the phase does not move it
     x_cut = x_lead0 + v * t_cut
     ramp = v * LANE_M / lay["lateral_speed_mps"]
     lead = cell.target_object(name="lead", trajectory={

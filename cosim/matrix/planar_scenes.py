@@ -159,14 +159,15 @@ def lead_turns_off(cell: SceneCell) -> dict[str, Any]:
     turns right off the road (an arc of ``turn_radius_m`` through 90 degrees) into a side road."""
     lay = cell.layout
     v_turn, length = lay["turn_speed_kmh"] / KMH, cell.target["length_m"]
-    x_lead = cell.x0 + lay["headway_s"] * cell.v + length / 2.0
+    x_lead = lay["headway_s"] * cell.v + length / 2.0  # at the ego's speed: the phase moves its braking instead
     brake_m = (cell.v ** 2 - v_turn ** 2) / (2.0 * lay["decel_mps2"])
-    x_turn = x_lead + cell.v * cell.t_start + brake_m + 5.0
+    brake_at = cell.v * (cell.t_start + cell.shift_s)  # along its path
+    x_turn = x_lead + brake_at + brake_m + 5.0
     plan = PlanView.chained([Line(x_turn - x_lead), Arc(lay["turn_radius_m"] * math.pi / 2.0, -1.0 / lay["turn_radius_m"]),
                              Line(200.0)], x_lead, 0.0, 0.0)
     s = np.arange(0.0, plan.length_m, 0.5)
     x, y, _ = plan.pose(s)
-    speeds = [[0.0, cell.v], [cell.v * cell.t_start, cell.v], [cell.v * cell.t_start + brake_m, v_turn]]
+    speeds = [[0.0, cell.v], [brake_at, cell.v], [brake_at + brake_m, v_turn]]
     obj = cell.target_object(trajectory={"waypoints": np.column_stack([x, y]).tolist(), "speeds": speeds})
     duration = (x_turn + lay["turn_radius_m"] - cell.x0) / cell.v + 2.0
     return frame(cell, duration, straight_road(x_turn + 100.0), [obj], end="time")

@@ -213,3 +213,16 @@ def test_representative_planar_cells_run_and_fail_with_a_thumbnail(tmp_path):
     assert thumb.is_file() and f"(thumbs/{thumb.name})" in report.read_text()
     assert not list((tmp_path / "thumbs").glob("planar_false_positive_*"))
     assert "trace" not in (tmp_path / "matrix.json").read_text()
+
+
+def test_radar_phase_moves_the_encounter_later_not_the_cars_at_the_egos_speed():
+    v = 90 / 3.6
+    cut = cells("emergency_steering")["cut-out-occupied-90"]
+    a, b = cut.scenario_dict(0, 2), cut.scenario_dict(1, 2)
+    stopped = {d["objects"][1]["position_m"] for d in (a, b)}
+    assert max(stopped) - min(stopped) == pytest.approx(v * 0.025)  # half of one 50 ms radar update
+    assert a["objects"][0]["trajectory"]["waypoints"][0] == b["objects"][0]["trajectory"]["waypoints"][0]
+    assert [o["position_m"] for o in a["objects"][2:]] == [o["position_m"] for o in b["objects"][2:]]
+    cross = cells("ncap_vru")["CPNA-50-40"]
+    xs = [cross.scenario_dict(i, 2)["objects"][0]["crossing"]["x_m"] for i in range(2)]
+    assert xs[1] - xs[0] == pytest.approx(40 / 3.6 * 0.025)
