@@ -76,7 +76,6 @@ class Layout:
 
 
 _LAYOUT_KEYS = keys(Layout)
-_SCALAR_HINTS = (float, int, str)
 
 
 def _per_cell(name: str) -> bool:
