@@ -4,8 +4,9 @@ One row per cell and strategy (the worst radar phase). Plots: relative impact
 speed against test speed, one line per strategy, one panel per group
 (``impact_<catalogue>.png``, not for false positives, which count
 interventions); the Euro NCAP colour bands as a grid of cells
-by strategy (``bands_<catalogue>.png``); a bird's-eye thumbnail of every failing planar cell and
-strategy (``thumbs/``, :mod:`cosim.matrix.thumbnails`). The planar rows' traces feed the thumbnails
+by strategy (``bands_<catalogue>.png``); a bird's-eye thumbnail of every
+failing planar cell, a panel per failing strategy (``thumbs/``,
+:mod:`cosim.matrix.thumbnails`). The planar rows' traces feed the thumbnails
 and are left out of ``matrix.json``.
 """
 
@@ -50,7 +51,7 @@ def write_outputs(out: Path, catalogues: Sequence[Catalogue], rows: Sequence[Map
         cat_rows = [r for r in rows if r["catalogue"] == cat.name]
         figures[cat.name] = [PLOTS[name](out / f"{name}_{cat.name}.png", cat, cat_rows)
                              for name in scoring_named(cat.scoring).plots]
-        thumbs[cat.name] = thumbnails(out, cat, cat_rows)
+        thumbs[cat.name] = thumbnails(out, cat, cat_rows, int(meta.get("workers", 1)))
     path = out / "report.md"
     path.write_text(report_text(catalogues, plain, meta, figures, thumbs))
     return path
@@ -168,7 +169,7 @@ def report_text(catalogues: Sequence[Catalogue], rows: Sequence[Mapping[str, Any
         lines += [f"![{name}]({name})" for name in figures.get(cat.name, [])] + [""]
         made = (thumbs or {}).get(cat.name, [])
         if made:
-            lines += [f"Failing cells, bird's-eye ({len(made)}: the collision or the closest approach, the boxes "
-                      "then and 1 s before):", ""] + [f"![{caption}]({rel})" for caption, rel in made] + [""]
+            lines += [f"Failing cells, bird's-eye ({len(made)}, a panel per failing strategy: the collision or the "
+                      "closest approach, the boxes then and 1 s before):", ""] + [f"![{caption}]({rel})" for caption, rel in made] + [""]
         lines += ["Sources:", ""] + [f"- `{k}`: {v}" for k, v in cat.sources.items()] + [""]
     return "\n".join(lines)

@@ -9,6 +9,7 @@ contact point.
 
 from __future__ import annotations
 
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
@@ -43,12 +44,10 @@ def _view(scene, row: Mapping[str, Any]) -> RunView:
     return RunView(Path(row["cell"]), scene.road, scene.ego, scene.objects, {row["strategy"]: track})
 
 
-def draw_thumbnail(path: Path, scene, row: Mapping[str, Any], title: str) -> str:
-    """One failing row's thumbnail (PNG at ``path``); returns its file name."""
-    plt = _pyplot()
+def _panel(ax, scene, row: Mapping[str, Any]) -> None:
+    """One row's zoom: road, path, the boxes at the focus and 1 s before, the contact point, the verdict."""
     view = _view(scene, row)
     track = view.tracks[row["strategy"]]
-    fig, ax = plt.subplots(figsize=THUMB_SIZE_IN, dpi=THUMB_DPI)
     draw_road(ax, view.road, step_m=1.0)
     speed_line(ax, track.ego[:, :2], track.speed_mps, max(1.0, float(np.nanmax(track.speed_mps))), 400)
     k = focus_index(view, track)
@@ -63,28 +62,43 @@ def draw_thumbnail(path: Path, scene, row: Mapping[str, Any], title: str) -> str
     if track.collision is not None:
         centre = np.array([track.collision.x_m, track.collision.y_m])
         ax.plot(*centre, marker="X", ms=9, color=COLLISION_COLOR, ls="none", zorder=7)
-    ax.set_title(title, fontsize=7, loc="left")
+    ax.set_title(f"{row['strategy']}: {row['verdict']}", fontsize=7, loc="left")
     ax.tick_params(labelsize=6)
-    fig.subplots_adjust(left=0.12, right=0.98, top=0.88, bottom=0.12)
     set_view(ax, float(centre[0]), float(centre[1]), THUMB_SPAN_M)
+
+
+def draw_thumbnail(job: tuple[Path, Any, Sequence[Mapping[str, Any]]]) -> str:
+    """One failing cell's thumbnail: a panel per failing strategy, side by side (PNG); returns its file name."""
+    path, scene, rows = job
+    plt = _pyplot()
+    w, h = THUMB_SIZE_IN
+    fig, axes = plt.subplots(1, len(rows), figsize=(w * len(rows), h), dpi=THUMB_DPI, squeeze=False)
+    fig.subplots_adjust(left=0.06, right=0.99, top=0.82, bottom=0.12, wspace=0.25)
+    for ax, row in zip(axes[0], rows):
+        _panel(ax, scene, row)
+    fig.suptitle(rows[0]["cell"], x=0.01, ha="left", fontsize=8)
     fig.savefig(path)
     plt.close(fig)
     return path.name
 
 
-def thumbnails(out: Path, cat: Catalogue, rows: Sequence[Mapping[str, Any]]) -> list[tuple[str, str]]:
-    """Thumbnails of every failing row of ``cat`` under ``out/thumbs``: (caption, relative path) each."""
+def thumbnails(out: Path, cat: Catalogue, rows: Sequence[Mapping[str, Any]], workers: int = 1) -> list[tuple[str, str]]:
+    """A thumbnail of every failing cell of ``cat`` (a panel per failing strategy) under ``out/thumbs``, drawn by
+    ``workers`` processes: (caption, relative path) each."""
     cells = {c.cell_id: c for c in cat.cells}
-    scenes: dict[str, Any] = {}
-    made = []
+    failed: dict[str, list[Mapping[str, Any]]] = {}
     for row in rows:
-        if not failing(row):
-            continue
-        cell = row["cell"]
-        if cell not in scenes:
-            scenes[cell] = scene_of(scenario_from_dict(cells[cell].scenario_dict()))
-        (out / "thumbs").mkdir(parents=True, exist_ok=True)
-        caption = f"{cell} {row['strategy']}: {row['verdict']}"
-        name = draw_thumbnail(out / "thumbs" / f"{cat.name}_{cell}_{row['strategy']}.png", scenes[cell], row, caption)
-        made.append((caption, f"thumbs/{name}"))
-    return made
+        if failing(row):
+            failed.setdefault(row["cell"], []).append(row)
+    if not failed:
+        return []
+    (out / "thumbs").mkdir(parents=True, exist_ok=True)
+    jobs = [(out / "thumbs" / f"{cat.name}_{cell}.png", scene_of(scenario_from_dict(cells[cell].scenario_dict())), mine)
+            for cell, mine in failed.items()]
+    if workers > 1 and len(jobs) > 1:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            names = list(pool.map(draw_thumbnail, jobs, chunksize=8))
+    else:
+        names = [draw_thumbnail(job) for job in jobs]
+    return [(f"{cell}: " + "; ".join(f"{r['strategy']} {r['verdict']}" for r in mine), f"thumbs/{name}")
+            for (cell, mine), name in zip(failed.items(), names)]

@@ -209,7 +209,7 @@ def test_representative_planar_cells_run_and_fail_with_a_thumbnail(tmp_path):
     assert 0.0 < late["impact_kmh"] < 100.0 and not late["passed"]
     report = write_outputs(tmp_path, cats, rows, {"strategies": ["tightening"], "phases": 1, "runs": 2, "wall_s": 1.0,
                                                   "workers": 1, "version": "test"})
-    thumb = tmp_path / "thumbs" / "emergency_steering_late-stationary-free-100_tightening.png"
+    thumb = tmp_path / "thumbs" / "emergency_steering_late-stationary-free-100.png"
     assert thumb.is_file() and f"(thumbs/{thumb.name})" in report.read_text()
     assert not list((tmp_path / "thumbs").glob("planar_false_positive_*"))
     assert "trace" not in (tmp_path / "matrix.json").read_text()

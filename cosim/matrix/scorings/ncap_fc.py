@@ -134,8 +134,10 @@ class NcapFc(ScoringDefaults):
         pts = scenario_points(rows, table)
         counts = ", ".join(f"{sum(r.get('colour') == c for r in rows)} {c}" for c in SUB_SCORES)
         most = sum(table.points.get(s, 0.0) + table.extended_points.get(s, 0.0) for s in pts if s != "total")
+        errored = sum("colour" not in r for r in rows)
+        unscored = f"  {errored} cells errored (not scored)" if errored else ""
         return f"  bands: {counts}  NCAP {pts['total']:.2f}/{most:.2f} pts (" + \
-            ", ".join(f"{g} {v:.2f}" for g, v in pts.items() if g != "total") + ")"
+            ", ".join(f"{g} {v:.2f}" for g, v in pts.items() if g != "total") + ")" + unscored
 
 
 SCORING = NcapFc()
