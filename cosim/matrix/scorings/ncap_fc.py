@@ -133,7 +133,7 @@ class NcapFc(ScoringDefaults):
         """``bands: ...  NCAP 3.21/8.3 pts (CPNA 0.31, ...)`` of one strategy's rows."""
         pts = scenario_points(rows, table)
         counts = ", ".join(f"{sum(r.get('colour') == c for r in rows)} {c}" for c in SUB_SCORES)
-        most = sum(table.points.get(s, 0.0) + table.extended_points.get(s, 0.0) for s in pts if s != "total")
+        most = sum(table.points.values()) + sum(table.extended_points.values())
         errored = sum("colour" not in r for r in rows)
         unscored = f"  {errored} cells errored (not scored)" if errored else ""
         return f"  bands: {counts}  NCAP {pts['total']:.2f}/{most:.2f} pts (" + \
