@@ -226,3 +226,12 @@ def test_radar_phase_moves_the_encounter_later_not_the_cars_at_the_egos_speed():
     cross = cells("ncap_vru")["CPNA-50-40"]
     xs = [cross.scenario_dict(i, 2)["objects"][0]["crossing"]["x_m"] for i in range(2)]
     assert xs[1] - xs[0] == pytest.approx(40 / 3.6 * 0.025)
+
+
+def test_fc_summary_counts_errored_cells_and_keeps_the_whole_maximum():
+    from cosim.matrix.scorings import scoring_named
+
+    table = load_catalogue("ncap_vru").scoring_table
+    rows = [{"group": "CPNA-50", "colour": "green", "strategy": "s"}, {"group": "CBNA-50", "strategy": "s"}]
+    text = scoring_named("ncap_fc").summary(rows, table)
+    assert "NCAP 0.50/11.75 pts (CPNA 0.50)" in text and "1 cells errored (not scored)" in text
