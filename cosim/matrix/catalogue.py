@@ -37,7 +37,10 @@ from ecu.settings import Kind, Range, SettingError, keys, load, load_toml, setti
 from ..errors import ConfigError
 from ..scenarios.config import OBJECT_TRACK_PERIOD_S
 from ..scenarios.loader import scenario_from_dict
-from . import xosc_cells
+from ..world.targets import TARGET_CLASSES
+from . import planar_scenes, xosc_cells
+from .planar_layout import check_layout
+from .planar_scenes import SCENES
 from .scorings import SCORINGS, scoring_named
 
 KMH = 3.6
@@ -86,12 +89,18 @@ class CellKeys:
     xosc: str | None = setting(None, doc="an OpenSCENARIO file that gives the cell's whole scenario, relative to "
                                         "the catalogue (cosim.matrix.xosc_cells); the other keys feed the scoring")
     ego: str | None = setting(None, doc="xosc: the entity that is the equipped car (default Ego/hero)")
+    scene: str | None = setting(None, allowed=tuple(SCENES), doc="a planar scene (cosim.matrix.planar_scenes) "
+                                "builds the cell's road, objects and paths; its geometry is in layout")
+    layout: Mapping[str, Any] | None = setting(None, kind=Kind("table (cosim.matrix.planar_layout.Layout)",
+                                                               lambda value, where: value),
+                                               doc="scene: the geometry of its cells (a number key may be a "
+                                                   "list, one value per ego speed)")
 
 
 _CELL_KEYS = keys(CellKeys)
 #: a cell's value of a key it does not give (keys without one: the cell's scenario depends on their presence)
 _CELL_DEFAULTS = {k.name: k.default for k in _CELL_KEYS.values() if not k.required and k.default is not None}
-_SCALAR_ONLY = ("group", "target", "source")
+_SCALAR_ONLY = ("group", "target", "source", "layout")
 
 
 def _partial_scenario(value: Any, where: str) -> Mapping[str, Any]:
@@ -118,6 +127,8 @@ class Target:
     length_m: float = setting(unit="m", allowed=Range(0.0, 50.0, low_open=True), doc="length along the path")
     width_m: float = setting(unit="m", allowed=Range(0.0, 10.0, low_open=True), doc="width across the path")
     source: str = setting(doc="the key(s) of [sources] the dimensions cite, joined by +")
+    target_class: str | None = setting(None, allowed=tuple(TARGET_CLASSES),
+                                       doc="planar cells: the world's target class (its radar size class)")
 
 
 @dataclass(frozen=True)
@@ -156,6 +167,9 @@ class Cell:
         """The cell as a scenario mapping (plain data, picklable) at radar phase ``phase`` of ``phases``."""
         if self.params.get("xosc") is not None:
             return xosc_cells.scenario_dict(self.params, self.base, _deep_merge, phase, phases)
+        if self.params.get("scene") is not None:
+            return planar_scenes.scenario_dict(self.cell_id, {**_CELL_DEFAULTS, **self.params}, self.target, self.base,
+                                               _deep_merge, phase, phases)
         p = {**_CELL_DEFAULTS, **self.params}
         v, vt = p["ego_speed_kmh"] / KMH, p["target_speed_kmh"] / KMH
         settle, shift_s = p["settle_s"], OBJECT_TRACK_PERIOD_S * phase / phases
@@ -302,6 +316,15 @@ def _series_values(s: Mapping[str, Any], where: str, required: tuple[str, ...]) 
     return len(speeds), values
 
 
+def _layouts(values: Mapping[str, Any], n: int, where: str) -> list[dict[str, Any]]:
+    """A planar series' per-cell layouts (none without ``scene``; ``layout`` without ``scene``: an error)."""
+    if values.get("scene") is None:
+        if "layout" in values:
+            raise SettingError(f"{where}.layout", "is read only by a planar scene; expected scene = ...")
+        return []
+    return check_layout(values.get("layout", {}), n, SCENES[values["scene"]][1], f"{where}.layout")
+
+
 def _series(s: Mapping[str, Any], where: str, cat: tuple[str, tuple[str, ...]], targets: Mapping[str, Target],
             sources: Mapping[str, str], base: Mapping[str, Any]) -> list[Cell]:
     name, required, base_dir = cat
@@ -310,10 +333,14 @@ def _series(s: Mapping[str, Any], where: str, cat: tuple[str, tuple[str, ...]], 
     target = targets.get(values["target"])
     if target is None:
         raise SettingError(f"{where}.target", f"unknown target {values['target']!r}; expected one of {sorted(targets)}")
+    layouts = _layouts(values, n, where)
     cells = []
     for j in range(n):
         params = {key: value[j] if isinstance(value, list) else value for key, value in values.items()}
+        if layouts:
+            params["layout"] = layouts[j]
         xosc_cells.resolve(params, base_dir)
         cells.append(Cell(name, f"{params['group']}-{params['ego_speed_kmh']:g}", params["group"], params,
-                          {"length_m": target.length_m, "width_m": target.width_m, "source": target.source}, base))
+                          {"length_m": target.length_m, "width_m": target.width_m, "source": target.source,
+                           "target_class": target.target_class}, base))
     return cells

@@ -4,7 +4,10 @@ One row per cell and strategy (the worst radar phase). Plots: relative impact
 speed against test speed, one line per strategy, one panel per group
 (``impact_<catalogue>.png``, not for false positives, which count
 interventions); the Euro NCAP colour bands as a grid of cells
-by strategy (``bands_<catalogue>.png``).
+by strategy (``bands_<catalogue>.png``); a bird's-eye thumbnail of every
+failing planar cell, a panel per failing strategy (``thumbs/``,
+:mod:`cosim.matrix.thumbnails`). The planar rows' traces feed the thumbnails
+and are left out of ``matrix.json``.
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ from .catalogue import Catalogue  # noqa: E402
 from .scoring import Scoring  # noqa: E402
 from .scorings import scoring_named  # noqa: E402
 from .scorings.ncap import NCAP_BANDS, RED  # noqa: E402
+from .thumbnails import thumbnails  # noqa: E402
 
 CSV_COLUMNS = ("catalogue", "scoring", "cell", "group", "test_speed_kmh", "target_speed_kmh", "road_friction",
                "strategy", "phases", "collided", "impact_kmh", "max_impact_kmh", "colour", "score", "interventions",
@@ -40,14 +44,16 @@ def write_outputs(out: Path, catalogues: Sequence[Catalogue], rows: Sequence[Map
         writer.writeheader()
         for r in rows:
             writer.writerow({k: r.get(k) for k in CSV_COLUMNS})
-    (out / "matrix.json").write_text(json.dumps({"meta": dict(meta), "rows": list(rows)}, indent=1))
-    figures = {}
+    plain = [{k: v for k, v in r.items() if k != "trace"} for r in rows]
+    (out / "matrix.json").write_text(json.dumps({"meta": dict(meta), "rows": plain}, indent=1))
+    figures, thumbs = {}, {}
     for cat in catalogues:
         cat_rows = [r for r in rows if r["catalogue"] == cat.name]
         figures[cat.name] = [PLOTS[name](out / f"{name}_{cat.name}.png", cat, cat_rows)
                              for name in scoring_named(cat.scoring).plots]
+        thumbs[cat.name] = thumbnails(out, cat, cat_rows, int(meta.get("workers", 1)))
     path = out / "report.md"
-    path.write_text(report_text(catalogues, rows, meta, figures))
+    path.write_text(report_text(catalogues, plain, meta, figures, thumbs))
     return path
 
 
@@ -150,7 +156,7 @@ def summary_lines(catalogues: Sequence[Catalogue], rows: Sequence[Mapping[str, A
 
 
 def report_text(catalogues: Sequence[Catalogue], rows: Sequence[Mapping[str, Any]], meta: Mapping[str, Any],
-                figures: Mapping[str, list[str]]) -> str:
+                figures: Mapping[str, list[str]], thumbs: Mapping[str, list[tuple[str, str]]] | None = None) -> str:
     lines = ["# crd matrix report", "",
              f"Strategies {', '.join(meta['strategies'])}; {meta['phases']} radar phase(s) per cell, worst "
              f"scored; {meta['runs']} runs in {meta['wall_s']:.1f} s on {meta['workers']} worker(s); "
@@ -161,5 +167,9 @@ def report_text(catalogues: Sequence[Catalogue], rows: Sequence[Mapping[str, Any
                   f"How to read a cell: {scoring_named(cat.scoring).rule}", ""]
         lines += cell_table(cat, cat_rows) + [""]
         lines += [f"![{name}]({name})" for name in figures.get(cat.name, [])] + [""]
+        made = (thumbs or {}).get(cat.name, [])
+        if made:
+            lines += [f"Failing cells, bird's-eye ({len(made)}, a panel per failing strategy: the collision or the "
+                      "closest approach, the boxes then and 1 s before):", ""] + [f"![{caption}]({rel})" for caption, rel in made] + [""]
         lines += ["Sources:", ""] + [f"- `{k}`: {v}" for k, v in cat.sources.items()] + [""]
     return "\n".join(lines)

@@ -18,7 +18,9 @@ from typing import Any, Callable, Sequence
 
 from ..loop.experiment import resolve_fmu
 from ..loop.master import run_scenario
+from ..scenarios.config import Scenario
 from ..scenarios.loader import scenario_from_dict
+from .planar_outcome import planar_outcome
 from .catalogue import Catalogue, Cell
 from .scoring import RESTRICTING_MODES, Outcome, interventions, worst
 from .scorings import score_cell, scoring_named
@@ -42,14 +44,15 @@ class Job:
     fmu_path: str
 
 
-def outcome_of(record) -> Outcome:
-    """Summarise a run record (see :class:`Outcome`)."""
+def outcome_of(record, scenario: Scenario | None = None) -> Outcome:
+    """Summarise a run record (see :class:`Outcome`); with its ``scenario``, a planar run's additions too."""
     m = record.metrics
     modes, speeds = record.column("ecu_mode"), record.column("speed_mps")
     low = _low_speed_while_intervening(modes, speeds)
     impact = (m.impact_speed_mps or 0.0) * KMH if m.collided else 0.0
+    planar = planar_outcome(record, scenario) if scenario is not None else None
     return Outcome(m.collided, impact, interventions(modes), low, m.min_gap_m, m.end_reason,
-                   m.sim_time_s, m.wall_time_s, record.error)
+                   m.sim_time_s, m.wall_time_s, record.error, planar)
 
 
 def _low_speed_while_intervening(modes: list, speeds: list, after_cycles: int = 100) -> float | None:
@@ -65,11 +68,12 @@ def _low_speed_while_intervening(modes: list, speeds: list, after_cycles: int = 
 def run_job(job: Job) -> Outcome:
     """Run one job (in a worker process)."""
     try:
-        record = run_scenario(scenario_from_dict(job.scenario), Path(job.fmu_path), job.strategy)
+        scenario = scenario_from_dict(job.scenario)
+        record = run_scenario(scenario, Path(job.fmu_path), job.strategy)
     except Exception as exc:  # noqa: BLE001 - one broken cell must not stop the matrix
         log.error("%s %s phase %d: %s", job.cell_id, job.strategy, job.phase, exc)
         return Outcome(False, 0.0, 0, None, None, None, 0.0, 0.0, f"{type(exc).__name__}: {exc}")
-    return outcome_of(record)
+    return outcome_of(record, scenario)
 
 
 def jobs_for(catalogues: Sequence[Catalogue], strategies: Sequence[str], phases: int) -> list[Job]:
@@ -124,7 +128,10 @@ def _row(cat: Catalogue, cell: Cell, strategy: str, per_phase: list[Outcome]) ->
            "test_speed_kmh": cell.ego_speed_kmh, "target_speed_kmh": float(cell.get("target_speed_kmh")),
            "road_friction": float(cell.get("road_friction")), "strategy": strategy,
            "phases": len(per_phase), "impact_kmh_by_phase": [round(o.impact_kmh, 3) for o in per_phase]}
-    row.update({k: v for k, v in asdict(w).items() if k != "wall_time_s"})
+    row.update({k: v for k, v in asdict(w).items() if k not in ("wall_time_s", "planar")})
+    if w.planar is not None:  # a planar cell: what it touched, how far it left the road, its thumbnail's trace
+        row.update(hit_object=w.planar.hit_object, road_departure_m=w.planar.road_departure_m,
+                   trace=w.planar.trace)
     row["wall_time_s"] = sum(o.wall_time_s for o in per_phase)
     row.update(scoring_named(cat.scoring).row_fields(cell.params))
     row.update(score_cell(cat.scoring, cell.params, w))

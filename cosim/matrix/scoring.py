@@ -13,7 +13,10 @@ With several radar phases a cell is scored on its worst phase
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, ClassVar, Iterable, Mapping, Protocol, Sequence
+from typing import TYPE_CHECKING, Any, ClassVar, Iterable, Mapping, Protocol, Sequence
+
+if TYPE_CHECKING:
+    from .planar_outcome import PlanarOutcome
 
 RESTRICTING_MODES = ("TIGHTENING", "CONTINGENCY")
 KMH = 3.6
@@ -32,6 +35,8 @@ class Outcome:
     sim_time_s: float
     wall_time_s: float
     error: str | None = None
+    #: a planar cell's additions (:class:`cosim.matrix.planar_outcome.PlanarOutcome`); None in the 1-D world
+    planar: PlanarOutcome | None = None
 
 
 def interventions(modes: Sequence[str]) -> int:

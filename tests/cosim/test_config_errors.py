@@ -81,7 +81,8 @@ def test_sweep_range_and_catalogue_scoring_errors(tmp_path):
     cat = tmp_path / "c.toml"
     cat.write_text(_CATALOGUE.replace('scoring = "r152"', 'scoring = "r125"'))
     with pytest.raises(ConfigError, match=r"c\.toml: catalogue\.scoring: expected one of \['r152', 'ncap', "
-                                          r"'false_positive', 'follow'\], got 'r125'; did you mean 'r152'\?$"):
+                                          r"'false_positive', 'follow', 'ncap_fc', 'emergency_steering'\], got 'r125'; "
+                                              r"did you mean 'r152'\?$"):
         load_catalogue(cat)
     cat.write_text(_CATALOGUE.replace("max_impact_kmh = 0\n", ""))
     with pytest.raises(ConfigError, match=r"c\.toml: series\[0\]\.max_impact_kmh: missing; expected a number$"):

@@ -132,14 +132,14 @@ def test_every_bundled_cell_is_a_valid_scenario_and_phases_shift_the_encounter()
 
 @pytest.mark.parametrize("text, fragment", [
     ('[catalogue]\nscoring = "r152"\n[sources]\nx = "y"\n[targets]\n[[series]]\ngroup = "g"\n'
-     'ego_speed_kmh = [10]\ntarget = "car"\nsource = "x"\nspeed = 3\n', "series[0].speed: unknown key; expected one of group,"),
+     'ego_speed_kmh = [10]\ntarget = "car"\nsource = "x"\nspeed = 3\n', "series[0].speed: unknown key; did you mean series[0].scene?"),
     ('[catalogue]\nscoring = "ncap"\n[sources]\nx = "y"\n[targets.car]\nlength_m = 4.0\nwidth_m = 1.7\n'
      'source = "nope"\n[[series]]\n', "targets.car.source: unknown source 'nope'"),
     ('[catalogue]\nscoring = "r152"\n[sources]\nx = "y"\n[targets.car]\nlength_m = 4.0\nwidth_m = 1.7\n'
      'source = "x"\n[[series]]\ngroup = "g"\nego_speed_kmh = [10, 20]\nmax_impact_kmh = [0]\ntarget = "car"\n'
      'source = "x"\n', "series[0].max_impact_kmh: expected 2 values"),
-    ('[catalogue]\nscoring = "euro"\n', "catalogue.scoring: expected one of ['r152', 'ncap', 'false_positive', 'follow'], got 'euro'"),
-    ('[catalogue]\nscoring = "ncapp"\n', "catalogue.scoring: expected one of ['r152', 'ncap', 'false_positive', 'follow'], got 'ncapp'; did you mean 'ncap'?"),
+    ('[catalogue]\nscoring = "euro"\n', "catalogue.scoring: expected one of ['r152', 'ncap', 'false_positive', 'follow', 'ncap_fc', 'emergency_steering'], got 'euro'"),
+    ('[catalogue]\nscoring = "ncapp"\n', "catalogue.scoring: expected one of ['r152', 'ncap', 'false_positive', 'follow', 'ncap_fc', 'emergency_steering'], got 'ncapp'; did you mean 'ncap'?"),
 ])
 def test_catalogue_errors_name_the_file_and_key(tmp_path, text, fragment):
     path = tmp_path / "bad.toml"

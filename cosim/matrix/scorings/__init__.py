@@ -12,9 +12,10 @@ from typing import Any, Mapping
 from ecu.settings import SettingError, near_miss
 
 from ..scoring import Outcome, Scoring
-from . import false_positive, follow, ncap, r152
+from . import emergency_steering, false_positive, follow, ncap, ncap_fc, r152
 
-SCORINGS: dict[str, Scoring] = {m.SCORING.name: m.SCORING for m in (r152, ncap, false_positive, follow)}
+SCORINGS: dict[str, Scoring] = {m.SCORING.name: m.SCORING for m in (r152, ncap, false_positive, follow, ncap_fc,
+                                                                     emergency_steering)}
 
 
 def scoring_named(name: str, where: str = "catalogue.scoring") -> Scoring:
