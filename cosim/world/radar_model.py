@@ -14,7 +14,10 @@ negative closing), matching ``ObjectTrack``. Imperfections, all seeded:
 * maximum range and dropouts (per update, probability
   ``dropout_probability``): reported as ``ObjectValid = 0`` (no target).
 
-Reported values are clipped to the DBC ranges (0..250 m, ±100 m/s).
+Reported values are clipped to the DBC ranges (0..250 m, ±100 m/s). An object whose range or lateral
+offset lies beyond what ``ObjectTrack`` can carry (250 m; ±20 m to the side) is not reported: it is
+outside the field the contract gives this radar (a crossing cyclist 22 m to the side stopped the run
+with a SignalError before).
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ from ..scenarios.config import RadarConfig
 
 DBC_RANGE_MAX_M = signal_layout("ObjectTrack", "ObjectRange").maximum
 DBC_RATE_MAX_MPS = signal_layout("ObjectTrack", "ObjectRangeRate").maximum
+_LATERAL = signal_layout("ObjectTrack", "ObjectLateral")
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,7 +82,7 @@ class RadarModel:
             return NO_TARGET
         gap_m, rate_mps, lateral_m = truth
         range_m = gap_m + cfg.range_noise_std_m * noise_r
-        if gap_m > cfg.max_range_m or range_m > DBC_RANGE_MAX_M:
+        if gap_m > cfg.max_range_m or range_m > DBC_RANGE_MAX_M or not _LATERAL.minimum <= lateral_m <= _LATERAL.maximum:
             return NO_TARGET
         rate = rate_mps + cfg.range_rate_noise_std_mps * noise_rr
         return Track(True, min(max(range_m, 0.0), DBC_RANGE_MAX_M),

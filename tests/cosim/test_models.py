@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from can_dbc.codec import encode_payload
 from cosim.world.driver_models import make_driver
 from cosim.world.radar_model import RadarModel
 from cosim.scenarios.config import DriverConfig, RadarConfig
@@ -58,3 +59,16 @@ def test_radar_latency_max_range_and_dropout():
     dropped = _track_series(RadarConfig(dropout_probability=0.5), 3, n=400)
     share = sum(not t.valid for t in dropped) / len(dropped)
     assert 0.4 < share < 0.6
+
+
+def test_radar_does_not_report_an_object_beyond_the_contracts_lateral_range():
+    """ObjectTrack.ObjectLateral carries +-20 m: an object further to the side is outside the field the
+    contract gives the radar, and is not reported (it stopped the run with a SignalError before)."""
+    radar = RadarModel(RadarConfig(), np.random.default_rng(0))
+    for lateral_m, reported in ((-22.0, False), (20.0, True), (-20.0, True), (20.5, False)):
+        radar.sample(30.0, -5.0, lateral_m)
+        t = radar.measure()
+        assert t.valid is reported, lateral_m
+        if reported:
+            assert t.lateral_m == lateral_m
+            encode_payload("ObjectTrack", t.signals(), 0)  # encodable as the DBC declares
