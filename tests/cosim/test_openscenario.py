@@ -19,7 +19,7 @@ from cosim.cli.scenarios import bundled_scenarios, find_scenario  # noqa: E402
 from cosim.matrix.catalogue import bundled, load_catalogue  # noqa: E402
 from cosim.scenarios.loader import load_scenario, scenario_from_dict  # noqa: E402
 from cosim.scenarios.openscenario import read_xosc  # noqa: E402
-from cosim.scenarios.openscenario.export import export_xosc  # noqa: E402
+from cosim.scenarios.openscenario.export import ExportError, export_xosc  # noqa: E402
 
 SCHEMAS = Path(sg.__file__).resolve().parents[1] / "schemas"
 PAPER = Path(__file__).resolve().parents[2] / "cosim" / "scenarios" / "paper_cyclist.toml"
@@ -69,14 +69,29 @@ def test_export_validates_and_parses_with_scenariogeneration(tmp_path: Path, sch
     assert parsed.header.description == scenario.scenario.name
 
 
-def test_every_bundled_cell_round_trips_exactly(tmp_path: Path) -> None:
+#: cells of the planar catalogues that the export refuses today, per catalogue, and why: a box placed by
+#: ``pose`` on the ego's axis (it would read back as position_m/lateral_m) and a trajectory whose speed
+#: changes (only one constant speed is written). Pinned, so that support for them shows here.
+REFUSED_CELLS = {"ncap_junction": 50, "ncap_vru": 48, "planar_false_positive": 4}
+REFUSED_BECAUSE = ("on the ego's axis it reads back as position_m and lateral_m", "trajectory speeds")
+
+
+def test_every_bundled_cell_round_trips_exactly_or_is_refused_in_one_line(tmp_path: Path) -> None:
     cells = _cells()
     assert len(cells) > 50
+    refused: dict[str, int] = {}
     for name, cell in cells:
+        try:
+            export_xosc(scenario_from_dict(cell.scenario_dict(0, 3)), tmp_path, cell.cell_id)
+        except ExportError as exc:
+            assert "\n" not in str(exc) and any(r in str(exc) for r in REFUSED_BECAUSE), (name, cell.cell_id, exc)
+            refused[name] = refused.get(name, 0) + 1
+            continue
         for phase in (0, 2):
             scenario = scenario_from_dict(cell.scenario_dict(phase, 3))
             back = read_xosc(export_xosc(scenario, tmp_path, cell.cell_id)[0])
             assert _same_scene(scenario, back), (name, cell.cell_id, phase)
+    assert refused == REFUSED_CELLS
     paper = load_scenario(PAPER)
     assert read_xosc(export_xosc(paper, tmp_path, "paper")[0]) == paper
 
