@@ -16,10 +16,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import statistics
 import subprocess
 from pathlib import Path
+
+from tree_ab import alternate, report
 
 #: what each tree's own interpreter runs: only API that every tree since d2cf42d has
 CHILD = """
@@ -51,34 +51,15 @@ def one_round(tree: Path) -> list[tuple[float, float]]:
     return [tuple(run) for run in json.loads(proc.stdout)]
 
 
-def _spread(values: list[float]) -> str:
-    return f"{statistics.median(values):6.1f} ({min(values):.1f}..{max(values):.1f})"
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("trees", nargs="+", type=Path, help="worktrees with a venv; the first is the reference")
     parser.add_argument("--repeat", type=int, default=5, help="rounds (default 5)")
     args = parser.parse_args()
     trees = [t.resolve() for t in args.trees]
-    wall: dict[Path, list[float]] = {t: [] for t in trees}
-    cpu: dict[Path, list[float]] = {t: [] for t in trees}
-    loads: list[float] = []
-    for _ in range(max(1, args.repeat)):
-        for tree in trees:
-            loads.append(os.getloadavg()[0])
-            for w, c in one_round(tree):
-                wall[tree].append(w)
-                cpu[tree].append(c)
-    ref = trees[0]
-    print(f"paper loop in process, {args.repeat} alternating rounds x 3 strategies; x real time, median "
-          f"(min..max); ratio to {ref}")
-    print(f"load average (1 min) before each round: median {statistics.median(loads):.2f}, "
-          f"{min(loads):.2f}..{max(loads):.2f}, on {os.cpu_count()} cores")
-    for tree in trees:
-        rw = statistics.median(wall[tree]) / statistics.median(wall[ref])
-        rc = statistics.median(cpu[tree]) / statistics.median(cpu[ref])
-        print(f"  {str(tree):<24} wall {_spread(wall[tree])} x{rw:.2f}   CPU {_spread(cpu[tree])} x{rc:.2f}")
+    results = alternate(trees, args.repeat, one_round)
+    report(f"paper loop in process, {args.repeat} alternating rounds x 3 strategies, x real time", trees,
+           results, digits=1)
 
 
 if __name__ == "__main__":

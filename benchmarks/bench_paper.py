@@ -15,13 +15,13 @@ ratio to the first, and the load average seen before each run (so a noisy run sh
 from __future__ import annotations
 
 import argparse
-import os
 import resource
-import statistics
 import subprocess
 import tempfile
 import time
 from pathlib import Path
+
+from tree_ab import alternate, report
 
 
 def crd_paper(tree: Path) -> tuple[float, float]:
@@ -39,10 +39,6 @@ def crd_paper(tree: Path) -> tuple[float, float]:
     return wall, cpu
 
 
-def _spread(values: list[float]) -> str:
-    return f"{statistics.median(values):5.2f} ({min(values):.2f}..{max(values):.2f})"
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("trees", nargs="+", type=Path, help="worktrees with a venv; the first is the reference")
@@ -51,23 +47,8 @@ def main() -> None:
     trees = [t.resolve() for t in args.trees]
     for tree in trees:
         crd_paper(tree)  # warm up: the FMU cache, the page cache
-    wall: dict[Path, list[float]] = {t: [] for t in trees}
-    cpu: dict[Path, list[float]] = {t: [] for t in trees}
-    loads: list[float] = []
-    for _ in range(max(1, args.repeat)):
-        for tree in trees:
-            loads.append(os.getloadavg()[0])
-            w, c = crd_paper(tree)
-            wall[tree].append(w)
-            cpu[tree].append(c)
-    ref = trees[0]
-    print(f"crd paper, {args.repeat} alternating rounds; median (min..max) s; ratio to {ref}")
-    print(f"load average (1 min) before each run: median {statistics.median(loads):.2f}, "
-          f"{min(loads):.2f}..{max(loads):.2f}, on {os.cpu_count()} cores")
-    for tree in trees:
-        rw = statistics.median(wall[tree]) / statistics.median(wall[ref])
-        rc = statistics.median(cpu[tree]) / statistics.median(cpu[ref])
-        print(f"  {str(tree):<24} wall {_spread(wall[tree])} x{rw:.2f}   CPU {_spread(cpu[tree])} x{rc:.2f}")
+    results = alternate(trees, args.repeat, lambda tree: [crd_paper(tree)])
+    report(f"crd paper, {args.repeat} alternating rounds, s", trees, results)
 
 
 if __name__ == "__main__":
