@@ -30,9 +30,15 @@ SIGNALS = frozenset({signal.SIGINT, signal.SIGTERM})
 
 @contextmanager
 def signals_held() -> Iterator[None]:
-    """SIGINT and SIGTERM held back within the block (delivered at its end)."""
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
+    """SIGINT and SIGTERM held back within the block (delivered at its end).
+
+    The mask is read before it is changed, and changed inside ``try``: ``pthread_sigmask`` runs the
+    Python handlers of signals already pending once the new mask is set, so a KeyboardInterrupt can
+    leave the call with the signals blocked; the ``finally`` then still restores the mask (before,
+    such a signal left SIGINT blocked in the main thread for good: seen under load in the tests)."""
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, ())
     try:
+        signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
         yield
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, previous)
