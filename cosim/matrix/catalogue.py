@@ -104,12 +104,29 @@ _SCALAR_ONLY = ("group", "target", "source", "layout")
 
 
 def _partial_scenario(value: Any, where: str) -> Mapping[str, Any]:
-    """A partial scenario mapping, checked by the scenario loader, kept as data for the cells."""
+    """A partial scenario mapping, checked by the scenario loader, kept as data for the cells.
+
+    ``[scenario.driver.steering]`` is checked with each series' first cell (:func:`_check_first_cell`), not
+    here: alone it lacks the lane and the road that the cells add (e.g. a third-party plant's geometry for
+    the path-following driver, which the planar cells need)."""
+    alone = value
+    if isinstance(value, Mapping) and isinstance(value.get("driver"), Mapping) and "steering" in value["driver"]:
+        alone = {**value, "driver": {k: v for k, v in value["driver"].items() if k != "steering"}}
     try:
-        scenario_from_dict(value)
+        scenario_from_dict(alone)
     except SettingError as exc:
         raise exc.under(where) from None
     return value
+
+
+def _check_first_cell(cells: list[Cell], where: str) -> None:
+    """The series' first cell as it will run (``[scenario]`` merged in), checked by the scenario loader."""
+    if cells:
+        try:
+            scenario_from_dict(cells[0].scenario_dict())
+        except SettingError as exc:
+            raise SettingError(exc.under("scenario").path,
+                               f"{exc.problem} (checked in {where}'s first cell, {cells[0].cell_id})") from None
 
 
 @dataclass(frozen=True)
@@ -343,4 +360,6 @@ def _series(s: Mapping[str, Any], where: str, cat: tuple[str, tuple[str, ...]], 
         cells.append(Cell(name, f"{params['group']}-{params['ego_speed_kmh']:g}", params["group"], params,
                           {"length_m": target.length_m, "width_m": target.width_m, "source": target.source,
                            "target_class": target.target_class}, base))
+    if "steering" in base.get("driver", {}):
+        _check_first_cell(cells, where)
     return cells

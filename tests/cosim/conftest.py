@@ -21,3 +21,9 @@ def plant_fmu3() -> Path:
 @pytest.fixture(scope="session")
 def point_mass_fmu(tmp_path_factory) -> Path:
     return build_pythonfmu(HERE / "point_mass_slave.py", tmp_path_factory.mktemp("fixture_fmu"), "PointMass")
+
+
+@pytest.fixture(scope="session")
+def st_vehicle_fmu(tmp_path_factory) -> Path:
+    """CommonRoad's ST model as a third-party planar FMU (tests/cosim/st_vehicle_slave.py)."""
+    return build_pythonfmu(HERE / "st_vehicle_slave.py", tmp_path_factory.mktemp("st_fmu"), "StVehicle")
