@@ -40,8 +40,8 @@ XOSC_CASES = {  # element class: (xpath, new element, replace?, the element name
     "entity": ("//Entities", '<ScenarioObject name="cone"><MiscObject mass="1" miscObjectCategory="obstacle" '
                'name="c"><BoundingBox><Center x="0" y="0" z="0"/><Dimensions width="1" length="1" height="1"/>'
                '</BoundingBox><Properties/></MiscObject></ScenarioObject>', False, "MiscObject"),
-    "position": ("//Private[@entityRef='Ego']//Position/WorldPosition", '<RelativeObjectPosition entityRef="x" '
-                 'dx="1" dy="0"/>', True, "RelativeObjectPosition"),
+    "position": ("//Private[@entityRef='Ego']//Position/WorldPosition", '<RelativeWorldPosition entityRef="x" '
+                 'dx="1" dy="0"/>', True, "RelativeWorldPosition"),
     "private action": ("//Event//PrivateAction/LongitudinalAction", '<RoutingAction><AssignRouteAction/>'
                        '</RoutingAction>', True, "AssignRouteAction"),
     "lateral action": ("//Event//PrivateAction/LongitudinalAction", '<LateralAction><LaneOffsetAction continuous='

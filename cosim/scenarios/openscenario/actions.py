@@ -1,6 +1,6 @@
 """Private actions crd reads: teleport, absolute speed, lane change; each a small record.
 
-``<TeleportAction>`` (a :mod:`.positions` position), ``<SpeedAction>`` with an
+``<TeleportAction>`` (a :mod:`.positions` position, relative to an entity too), ``<SpeedAction>`` with an
 ``<AbsoluteTargetSpeed>`` and ``<SpeedActionDynamics>`` (any shape and
 dimension here; :mod:`.mapping` decides what crd's profiles can follow), and
 ``<LaneChangeAction>`` to an absolute or relative target lane. Everything else
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from typing import Mapping
 
 from .opendrive import Road
-from .positions import Pose, read_position
+from .positions import TELEPORT_POSITIONS, Pose, read_position
 from .trajectory import FollowTrajectory, read_follow_trajectory
 from .xml_source import Element, attr, child, choice, dispatch, number, one_child, only, unsupported
 
@@ -93,7 +93,7 @@ def _lateral(elem: Element, roads: Mapping[str, Road]) -> LaneChange:
 
 def _teleport(elem: Element, roads: Mapping[str, Road]) -> Teleport:
     only(elem, ("Position",))
-    return Teleport(read_position(child(elem, "Position"), roads), elem)
+    return Teleport(read_position(child(elem, "Position"), roads, TELEPORT_POSITIONS), elem)
 
 
 def _route(elem: Element, roads: Mapping[str, Road]) -> None:  # noqa: ARG001 - one handler signature

@@ -7,7 +7,8 @@ each profile on one event; and/or combinations are not supported yet), with
 * ``<SimulationTimeCondition rule=greaterThan|greaterOrEqual value>`` (+ the condition's ``delay``);
 * ``<RelativeDistanceCondition>`` (longitudinal, rule lessThan|lessOrEqual, ``freespace``);
 * ``<TimeToCollisionCondition>`` to an entity or a position (rule lessThan|lessOrEqual, ``freespace``);
-* ``<ReachPositionCondition>`` (a :mod:`.positions` position; ``tolerance`` read, no effect).
+* ``<ReachPositionCondition>`` (a :mod:`.positions` position; ``tolerance`` read, no effect);
+* ``<TraveledDistanceCondition value>`` (an object's speed change along its trajectory, :mod:`.speed_segments`).
 
 A distance, TTC or position condition needs ``delay = 0`` (crd's gap triggers fire at once).
 """
@@ -69,6 +70,15 @@ class AtPosition:
     elem: Element
 
 
+@dataclass(frozen=True)
+class AtTravel:
+    """``entity`` has travelled ``distance_m`` since the simulation's start."""
+
+    entity: str
+    distance_m: float
+    elem: Element
+
+
 def _bool(elem: Element, name: str) -> bool:
     return choice(elem, name, ("true", "false", "1", "0")) in ("true", "1")
 
@@ -106,11 +116,20 @@ def _reach(elem: Element, entity: str, roads: Mapping[str, Road]) -> AtPosition:
     return AtPosition(entity, read_position(child(elem, "Position"), roads), elem)
 
 
+def _traveled(elem: Element, entity: str, roads: Mapping[str, Road]) -> AtTravel:  # noqa: ARG001
+    only(elem, ())
+    distance = number(elem, "value")
+    if distance < 0.0:
+        raise fail(elem, f"value: expected >= 0, got {distance:g}")
+    return AtTravel(entity, distance, elem)
+
+
 ENTITY_CONDITIONS = {"RelativeDistanceCondition": _relative_distance, "TimeToCollisionCondition": _ttc,
-                     "ReachPositionCondition": _reach}
+                     "ReachPositionCondition": _reach, "TraveledDistanceCondition": _traveled}
 
 
-def _by_entity(elem: Element, delay_s: float, roads: Mapping[str, Road]) -> AtDistance | AtTtc | AtTtcPoint | AtPosition:
+def _by_entity(elem: Element, delay_s: float, roads: Mapping[str, Road]) -> AtDistance | AtTtc | AtTtcPoint | AtPosition \
+        | AtTravel:
     only(elem, ("TriggeringEntities", "EntityCondition"))
     triggering = child(elem, "TriggeringEntities")
     refs = only(triggering, ("EntityRef",))

@@ -10,13 +10,18 @@ number is written as crd holds it:
   each record where the previous one ends), and one lane section of constant widths;
 * an object placed in the plane has its reference point at its box centre, where crd places it:
   ``road_pose`` -> ``<RoadPosition s t>`` with a relative ``<Orientation h>``, ``pose`` ->
-  ``<WorldPosition x y h>`` (a heading off the ego's axis: along it, crd's ``position_m`` says it);
+  ``<RelativeObjectPosition entityRef=ego dx dy>`` with a relative ``<Orientation h>`` (the ego's
+  reference point is the origin, heading along x; a ``<WorldPosition>`` on the ego's axis would read
+  back as ``position_m`` and ``lateral_m``, the relative position as the pose at any heading);
 * a trajectory -> ``<FollowTrajectoryAction>`` with a ``<Polyline>`` (``TimeReference`` none,
   following mode position): waypoints as world positions; a lane path as lane positions of that
   lane and offset from ``start_s_m`` to the road's end, close enough on curved pieces that the
   chords stay within :data:`CHORD_SAGITTA_M` of the lane (crd reads such a polyline back as the
-  lane). Each vertex carries the time the object reaches it at its speed. Started at t = 0: an Init
-  action; at a time: a story event on ``SimulationTimeCondition``;
+  lane). Each vertex carries the time the object reaches it (none if it stops before the last).
+  Started at t = 0: an Init action; at a time: a story event on ``SimulationTimeCondition``; by
+  ``ego_ttc``: on the ego's ``TimeToCollisionCondition`` to ``start_point`` (``freespace``). Speeds
+  that change: linear ``SpeedAction`` segments (:mod:`.speed_segments`), at ``s = 0`` in the
+  trajectory's event, later started by the object's ``TraveledDistanceCondition``;
 * a crossing -> the object at its start, speed 0, and one event started by the ego's
   ``TimeToCollisionCondition`` to the synchronisation point (``freespace``: crd's time of the front
   bumper to the point): a polyline start -> point -> end and a linear ``SpeedAction`` to its speed
@@ -35,6 +40,7 @@ from ...world.targets import TARGET_CLASSES
 from ...world.trajectory import SpeedProfile, crossing
 from ..config import ObjectConfig
 from ..planar_config import CrossingConfig, RoadConfig, TrajectoryConfig
+from .speed_segments import Segment, knots, segments
 
 ROAD_ID = 0
 #: how far the chords of an exported lane path may leave the lane (m): the sagitta c^2 |k| / 8
@@ -96,7 +102,7 @@ def _step(speed_mps: float) -> xosc.AbsoluteSpeedAction:
                                                                        xosc.DynamicsDimension.time, 0.0))
 
 
-def placed_init(obj: ObjectConfig) -> list:
+def placed_init(obj: ObjectConfig, ego: str) -> list:
     """The Init actions of an object placed by ``pose`` or ``road_pose``: teleport and speed."""
     moving = obj.brake_decel_mps2 > 0.0 or obj.lateral_end_m is not None
     if moving or obj.speed_mps < 0.0:
@@ -108,19 +114,28 @@ def placed_init(obj: ObjectConfig) -> list:
         where = xosc.RoadPosition(rp.s_m, rp.t_m, ROAD_ID, orient)
     else:
         p = obj.pose
-        if math.remainder(p.heading_rad, math.pi) == 0.0 or math.remainder(p.heading_rad, 2 * math.pi) != p.heading_rad:
-            raise PlaneExportError(f"object {obj.name!r}: pose.heading_rad = {p.heading_rad}: on the ego's axis it "
-                                   "reads back as position_m and lateral_m (give those), and outside (-pi, pi] as "
-                                   "another number")
-        where = xosc.WorldPosition(p.x_m, p.y_m, 0.0, p.heading_rad)
+        if math.remainder(p.heading_rad, 2 * math.pi) != p.heading_rad:
+            raise PlaneExportError(f"object {obj.name!r}: pose.heading_rad = {p.heading_rad}: outside (-pi, pi] it "
+                                   "reads back as another number")
+        orient = xosc.Orientation(h=p.heading_rad, reference=xosc.ReferenceContext.relative)
+        where = xosc.RelativeObjectPosition(ego, p.x_m, p.y_m, orientation=orient)
     return [xosc.TeleportAction(where), _step(obj.speed_mps)]
 
 
-def _constant_speed(obj: ObjectConfig, cfg: TrajectoryConfig) -> float:
-    if cfg.speeds_over != "distance" or len(cfg.speeds) != 1 or cfg.speeds[0][0] != 0.0:
-        raise PlaneExportError(f"object {obj.name!r}: trajectory speeds {[list(k) for k in cfg.speeds]} over "
-                               f"{cfg.speeds_over}: the export writes one constant speed, [[0.0, v]] over distance")
-    return cfg.speeds[0][1]
+def _knots(obj: ObjectConfig, cfg: TrajectoryConfig) -> list[Segment]:
+    """The speed segments of the trajectory's knots (:mod:`.speed_segments`), if they read back as the same knots."""
+    knotted = [list(k) for k in cfg.speeds]
+    if cfg.speeds_over != "distance" or knotted[0][0] != 0.0:
+        raise PlaneExportError(f"object {obj.name!r}: trajectory speeds {knotted} over {cfg.speeds_over}: the export "
+                               "writes knots over distance from [0.0, v]")
+    segs = segments(knotted)
+    if knots(knotted[0][1], segs) != knotted:
+        raise PlaneExportError(f"object {obj.name!r}: trajectory speeds {knotted}: as SpeedAction segments they read "
+                               f"back as {knots(knotted[0][1], segs)}")
+    if cfg.start != "at_start" and knotted[0][1] > 0.0 and any(seg.start_m > 0.0 for seg in segs):
+        raise PlaneExportError(f"object {obj.name!r}: trajectory speeds {knotted} from a first speed > 0, started "
+                               f"{cfg.start!r}: a TraveledDistanceCondition would count the way before the start")
+    return segs
 
 
 def _lane_stations(road: Road, cfg: TrajectoryConfig, t_m: float) -> list[float]:
@@ -150,14 +165,13 @@ def _vertices(obj: ObjectConfig, road: Road | None) -> tuple[list, list[tuple[fl
     return [xosc.LanePosition(s, cfg.lane_offset_m, cfg.lane, ROAD_ID) for s in stations], points
 
 
-def _times(points: list[tuple[float, float]], speed_mps: float) -> list[float]:
-    if speed_mps <= 0.0:
-        return []
+def _times(points: list[tuple[float, float]], profile: SpeedProfile) -> list[float]:
+    """When the object reaches each vertex (none, if it stops before the last)."""
     out, d = [0.0], 0.0
     for a, b in zip(points, points[1:]):
         d += math.hypot(b[0] - a[0], b[1] - a[1])
-        out.append(d / speed_mps)
-    return out
+        out.append(profile.time_to_reach(d))
+    return out if math.isfinite(out[-1]) else []
 
 
 def _follow(name: str, positions: list, times: list[float]) -> xosc.FollowTrajectoryAction:
@@ -166,25 +180,57 @@ def _follow(name: str, positions: list, times: list[float]) -> xosc.FollowTrajec
     return xosc.FollowTrajectoryAction(trajectory, xosc.FollowingMode.position)
 
 
-def trajectory_actions(obj: ObjectConfig, road: Road | None) -> tuple[list, xosc.Event | None]:
-    """(Init actions, story event or None) of an object with ``[objects.trajectory]``."""
+def _ttc_start(cfg: TrajectoryConfig, ego: str) -> xosc.EntityTrigger:
+    cond = xosc.TimeToCollisionCondition(cfg.start_value, xosc.Rule.lessOrEqual, alongroute=False, freespace=True,
+                                         position=xosc.WorldPosition(*cfg.start_point))
+    return xosc.EntityTrigger("trajectory_ttc", 0.0, xosc.ConditionEdge.none, cond, ego)
+
+
+def _time_start(cfg: TrajectoryConfig, ego: str) -> xosc.ValueTrigger:  # noqa: ARG001 - one signature
+    return xosc.ValueTrigger("trajectory_time", 0.0, xosc.ConditionEdge.none,
+                             xosc.SimulationTimeCondition(cfg.start_value, xosc.Rule.greaterOrEqual))
+
+
+#: a trajectory's ``start`` (other than at_start: an Init action) -> its event's trigger
+STARTS = {"time": _time_start, "ego_ttc": _ttc_start}
+
+
+def _speed_events(obj: ObjectConfig, segs: list[Segment], with_path: xosc.Event | None) -> list[xosc.Event]:
+    """Each segment as a linear SpeedAction over its distance; at s = 0 in ``with_path`` (the trajectory's event),
+    else an event started by the object's TraveledDistanceCondition."""
+    events = []
+    for i, seg in enumerate(segs):
+        dyn = xosc.TransitionDynamics(xosc.DynamicsShapes.linear, xosc.DynamicsDimension.distance, seg.length_m)
+        action = xosc.AbsoluteSpeedAction(seg.target_mps, dyn)
+        if seg.start_m == 0.0 and with_path is not None:
+            with_path.add_action("speed", action)
+            continue
+        event = xosc.Event(f"{obj.name}_speed_{i}", xosc.Priority.parallel)
+        event.add_action("speed", action)
+        event.add_trigger(xosc.EntityTrigger(f"speed_{i}_distance", 0.0, xosc.ConditionEdge.none,
+                                             xosc.TraveledDistanceCondition(seg.start_m), obj.name))
+        events.append(event)
+    return events
+
+
+def trajectory_actions(obj: ObjectConfig, road: Road | None, ego: str) -> tuple[list, list[xosc.Event]]:
+    """(Init actions, story events) of an object with ``[objects.trajectory]``."""
     cfg = obj.trajectory
-    speed = _constant_speed(obj, cfg)
+    segs = _knots(obj, cfg)
     positions, points = _vertices(obj, road)
     first = positions[0] if cfg.lane is not None else xosc.WorldPosition(*points[0], 0.0, math.atan2(
         points[1][1] - points[0][1], points[1][0] - points[0][0]))
-    follow = _follow(obj.name, positions, _times(points, speed))
-    init = [xosc.TeleportAction(first), _step(speed)]
+    follow = _follow(obj.name, positions, _times(points, SpeedProfile.over_distance(cfg.speeds)))
+    init = [xosc.TeleportAction(first), _step(cfg.speeds[0][1])]
     if cfg.start == "at_start":
-        return init + [follow], None
-    if cfg.start != "time":
+        return init + [follow], _speed_events(obj, segs, None)
+    if cfg.start not in STARTS:
         raise PlaneExportError(f"object {obj.name!r}: trajectory start {cfg.start!r}: the export writes a start at "
-                               "t = 0 or at a time")
+                               f"t = 0 or by {', '.join(STARTS)}")
     event = xosc.Event(f"{obj.name}_trajectory", xosc.Priority.parallel)
     event.add_action("trajectory", follow)
-    event.add_trigger(xosc.ValueTrigger("trajectory_time", 0.0, xosc.ConditionEdge.none,
-                                        xosc.SimulationTimeCondition(cfg.start_value, xosc.Rule.greaterOrEqual)))
-    return init, event
+    event.add_trigger(STARTS[cfg.start](cfg, ego))
+    return init, [event] + _speed_events(obj, segs, event)
 
 
 def crossing_actions(obj: ObjectConfig, ego: str) -> tuple[list, xosc.Event]:
@@ -216,9 +262,8 @@ def crossing_actions(obj: ObjectConfig, ego: str) -> tuple[list, xosc.Event]:
 def plane_actions(obj: ObjectConfig, road: Road | None, ego: str) -> tuple[list, list[xosc.Event]]:
     """(Init actions, story events) of an object placed or moved in the plane."""
     if obj.trajectory is not None:
-        init, event = trajectory_actions(obj, road)
-        return init, [event] if event is not None else []
+        return trajectory_actions(obj, road, ego)
     if obj.crossing is not None:
         init, event = crossing_actions(obj, ego)
         return init, [event]
-    return placed_init(obj), []
+    return placed_init(obj, ego), []

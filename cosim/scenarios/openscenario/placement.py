@@ -6,8 +6,9 @@ reference point, with the box centre at ``BoundingBox/Center (cx, cy)`` in the e
 * a ``<RoadPosition>`` or ``<LanePosition>`` on the road that is the scenario's ``[road]``, of an
   object whose box centre is its reference point, is ``road_pose``: ``s``, ``t`` (from the reference
   line, as crd's ``[road]`` has no lane offset: ``t - offset``) and the heading relative to the road's;
-* any other position, or a box centre elsewhere, is ``pose``: the centre ``P + R(h) (cx, cy)`` and
-  the heading, in crd's frame (:class:`.frame.Frame`).
+* any other position (a ``<RelativeObjectPosition>``, a ``<WorldPosition>`` across the ego's axis),
+  or a box centre elsewhere, is ``pose``: the centre ``P + R(h) (cx, cy)`` and the heading, in crd's
+  frame (:class:`.frame.Frame`).
 
 The object's Init speed is ``speed_mps`` along its heading. crd's motion keys of a placed object
 (braking, lateral motion) run along its heading too, but OpenSCENARIO's story actions for them are

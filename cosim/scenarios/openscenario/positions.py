@@ -10,10 +10,17 @@
   driving direction under right-hand traffic (lanes right of the centre lane
   along the reference line, those left of it against it).
 
+* ``<RelativeObjectPosition entityRef dx dy>``, in an object's Init teleport only: ``(dx, dy)`` in
+  the frame of the entity's reference point at its own Init position (which must be absolute), the
+  heading that entity's plus the ``<Orientation>``'s ``h`` (``type="absolute"``: ``h`` itself);
+  ``dz`` is read and has no effect. Read first as a :class:`Relative` (its pose unknown), then
+  placed by :func:`resolve`. crd reads such an object as placed in the plane (``pose``,
+  :mod:`.placement`): the export writes ``pose`` this way, so a box on the ego's axis stays a pose.
+
 A road or lane position also keeps where it is on the road (:class:`RoadSpot`): when the road is
 the scenario's ``[road]``, an object placed there becomes crd's ``road_pose`` (:mod:`.placement`).
 
-Other position types (relative, route, trajectory, geographic) are not supported yet.
+Other position types (relative world, road and lane, route, trajectory, geographic) are not supported yet.
 """
 
 from __future__ import annotations
@@ -23,7 +30,7 @@ from dataclasses import dataclass
 from typing import Mapping
 
 from .opendrive import Road
-from .xml_source import Element, attr, child, dispatch, fail, number, one_child, only, unsupported
+from .xml_source import Element, attr, child, choice, dispatch, fail, number, one_child, only, unsupported
 
 
 @dataclass(frozen=True)
@@ -40,13 +47,27 @@ class RoadSpot:
 
 
 @dataclass(frozen=True)
+class Relative:
+    """A ``<RelativeObjectPosition>``: ``(dx, dy)`` in ``entity``'s frame, heading ``h`` relative to it (or absolute)."""
+
+    entity: str
+    dx_m: float
+    dy_m: float
+    h_rad: float
+    absolute: bool
+    elem: Element
+
+
+@dataclass(frozen=True)
 class Pose:
-    """A reference point in world coordinates and its heading (and where it is on a road, if given so)."""
+    """A reference point in world coordinates and its heading (and where it is on a road, or relative to which
+    entity, if given so). A relative pose not yet :func:`resolve`-d has NaN coordinates."""
 
     x_m: float
     y_m: float
     h_rad: float
     spot: RoadSpot | None = None
+    relative: Relative | None = None
 
 
 def _no_tilt(elem: Element) -> None:
@@ -104,9 +125,34 @@ def _lane_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
     return Pose(x, y, h, RoadSpot(road.road_id, s_m, t_m, rel, lane, offset))
 
 
+def _relative_object(elem: Element, roads: Mapping[str, Road]) -> Pose:  # noqa: ARG001 - one handler signature
+    only(elem, ("Orientation",))
+    number(elem, "dz", 0.0)
+    orient = child(elem, "Orientation", False)
+    h, absolute = 0.0, False
+    if orient is not None:
+        _no_tilt(orient)
+        absolute = choice(orient, "type", ("relative", "absolute"), "relative") == "absolute"
+        h = number(orient, "h", 0.0)
+    rel = Relative(attr(elem, "entityRef"), number(elem, "dx"), number(elem, "dy"), h, absolute, elem)
+    return Pose(math.nan, math.nan, math.nan, relative=rel)
+
+
 POSITIONS = {"WorldPosition": _world, "RoadPosition": _road_position, "LanePosition": _lane_position}
+#: what an object's Init teleport reads besides (the other places need a position known without the entities)
+TELEPORT_POSITIONS = POSITIONS | {"RelativeObjectPosition": _relative_object}
 
 
-def read_position(elem: Element, roads: Mapping[str, Road]) -> Pose:
-    """A ``<Position>`` element's pose."""
-    return dispatch(one_child(elem), POSITIONS, roads)
+def read_position(elem: Element, roads: Mapping[str, Road], table: Mapping = POSITIONS) -> Pose:
+    """A ``<Position>`` element's pose (``table``: :data:`TELEPORT_POSITIONS` in a teleport)."""
+    return dispatch(one_child(elem), table, roads)
+
+
+def resolve(pose: Pose, anchor: Pose) -> Pose:
+    """A relative pose placed from its entity's pose ``anchor``: ``P = A + R(h_A) (dx, dy)``; it keeps its
+    :class:`Relative`, so the object still reads as placed relative to an entity."""
+    rel = pose.relative
+    c, s = math.cos(anchor.h_rad), math.sin(anchor.h_rad)
+    x = anchor.x_m + rel.dx_m * c - rel.dy_m * s
+    y = anchor.y_m + rel.dx_m * s + rel.dy_m * c
+    return Pose(x, y, rel.h_rad if rel.absolute else anchor.h_rad + rel.h_rad, relative=rel)

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from typing import Any, Mapping
 
 from .actions import Dynamics, LaneChange, SpeedChange
-from .conditions import AtDistance, AtPosition, AtTime, AtTtc, AtTtcPoint
+from .conditions import AtDistance, AtPosition, AtTime, AtTravel, AtTtc, AtTtcPoint
 from .entities import Body
 from .frame import Frame
 from .opendrive import Road
@@ -90,6 +90,9 @@ def trigger(cond: Any, actor: Actor, ego: str) -> tuple[str, float]:
     if isinstance(cond, AtTtcPoint):
         raise unsupported(cond.elem, "a time to collision with a position to start a speed or lane change: crd "
                                      "starts a trajectory so, these by time or the ego's gap")
+    if isinstance(cond, AtTravel):
+        raise unsupported(cond.elem, "a travelled distance to start a brake or lane change: crd reads one for a "
+                                     "speed change along a trajectory")
     return _reach(cond, actor, ego)
 
 

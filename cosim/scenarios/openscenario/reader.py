@@ -3,9 +3,9 @@
 The file is read strictly (:mod:`.xml_source`): what crd's world can follow maps onto the scenario
 keys (docs/openscenario.md): objects on the ego's axis as the 1-D keys and profiles
 (:mod:`.profiles`); a curved road, or a straight one under a steering ego, as the planar ``[road]``
-(:mod:`.planar_road`); objects on that road or across the ego as ``road_pose``/``pose``
-(:mod:`.placement`); trajectories and crossings (:mod:`.trajectory_keys`). Anything else is a
-one-line error naming the file, the line and the element. The mapped keys go through the same
+(:mod:`.planar_road`); objects on that road, across the ego or placed relative to an entity as
+``road_pose``/``pose`` (:mod:`.placement`); trajectories and crossings (:mod:`.trajectory_keys`).
+Anything else is a one-line error naming the file, the line and the element. The mapped keys go through the same
 loader as a TOML file (:func:`cosim.scenarios.loader.scenario_from_dict`), so ranges and cross-key
 rules hold the same; a loader error names the property or element it came from.
 """
@@ -20,6 +20,7 @@ from ...errors import ConfigError
 from ..config import Scenario
 from ..loader import scenario_from_dict
 from .actions import LaneChange, SpeedChange, Teleport
+from .conditions import AtTravel
 from .entities import Body, read_entities
 from .frame import Frame
 from .opendrive import Road, read_opendrive
@@ -144,10 +145,10 @@ class _Build:
         return keys
 
     def _in_plane(self, actor: Actor) -> bool:
-        """Across the ego's axis, or on the road that is the scenario's ``[road]``."""
+        """Across the ego's axis, placed relative to an entity, or on the road that is the scenario's ``[road]``."""
         spot, road = actor.pose.spot, self.plane_road
         on_road = spot is not None and road is not None and spot.road_id == road.road_id
-        return on_road or actor.frame.aligned(actor.pose.h_rad) is None
+        return on_road or actor.pose.relative is not None or actor.frame.aligned(actor.pose.h_rad) is None
 
     def _motion(self, actor: Actor, events: list) -> Motion | None:
         """The object's trajectory, its start and a speed change of the same event (None: no trajectory)."""
@@ -161,12 +162,16 @@ class _Build:
         start = story[0].start if story else None
         rest = [e for e in events if not isinstance(e.action, FollowTrajectory)]
         speed = [e for e in rest if isinstance(e.action, SpeedChange) and story and e.start is start]
-        if len(rest) != len(speed) or len(speed) > 1:
+        later = [e for e in rest if isinstance(e.action, SpeedChange) and isinstance(e.start, AtTravel)
+                 and e.start.entity == name and e.start is not start]
+        if len(rest) != len(speed) + len(later) or len(speed) > 1:
             raise unsupported(rest[-1].action.elem, f"{type(rest[-1].action).__name__} for {name!r}, which follows "
-                                                    "a trajectory: crd reads one speed action in the same event")
+                                                    "a trajectory: crd reads one speed action in the same event, and "
+                                                    "speed actions started by its own TraveledDistanceCondition")
         follow = in_init[0] if in_init else story[0].action
         _, speed0 = _start(actor.body, self.board.init.get(name, []), follows=True)
-        return Motion(follow, start, speed[0].action if speed else None, actor.body, speed0, actor.pose.h_rad)
+        return Motion(follow, start, speed[0].action if speed else None, actor.body, speed0, actor.pose.h_rad,
+                      tuple((e.start.distance_m, e.action) for e in later))
 
     def _event_keys(self, event, actor: Actor, actors: Mapping[str, Actor], keys: dict, done: set) -> None:
         action = event.action

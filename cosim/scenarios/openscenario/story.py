@@ -1,7 +1,8 @@
 """``<Storyboard>``: the Init actions per entity, the story's events, and the stop trigger.
 
 Init: ``<Private entityRef>`` with teleport and speed actions (global actions
-are not supported yet). Story: ``<Story>`` / ``<Act>`` (started at simulation
+are not supported yet); a teleport relative to an entity is placed from that entity's own Init
+teleport, which must be absolute. Story: ``<Story>`` / ``<Act>`` (started at simulation
 time 0, no stop trigger) / ``<ManeuverGroup maximumExecutionCount="1">`` with
 ``<Actors>`` by ``<EntityRef>`` / ``<Maneuver>`` / ``<Event>`` (executed once)
 with private ``<Action>`` elements and one start condition (:mod:`.conditions`);
@@ -10,15 +11,17 @@ each action applies to every actor of its group.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Mapping
 
 from .actions import LaneChange, SpeedChange, Teleport, read_action, read_private_action
-from .conditions import AtDistance, AtPosition, AtTime, AtTtc, AtTtcPoint, read_trigger
+from .conditions import AtDistance, AtPosition, AtTime, AtTravel, AtTtc, AtTtcPoint, read_trigger
 from .opendrive import Road
+from .positions import resolve
 from .xml_source import Element, attr, child, children, fail, number, only, unsupported
 
-Condition = AtTime | AtDistance | AtTtc | AtTtcPoint | AtPosition
+Condition = AtTime | AtDistance | AtTtc | AtTtcPoint | AtPosition | AtTravel
 
 
 @dataclass(frozen=True)
@@ -51,6 +54,25 @@ def _init(elem: Element, roads: Mapping[str, Road]) -> dict[str, list]:
         entity = attr(private, "entityRef")
         out.setdefault(entity, []).extend(read_private_action(a, roads) for a in only(private, ("PrivateAction",)))
     return out
+
+
+def _placed(init: dict[str, list]) -> dict[str, list]:
+    """``init`` with each relative teleport placed from its entity's absolute Init teleport."""
+    placed = {name: next((a.pose for a in actions if isinstance(a, Teleport)), None) for name, actions in init.items()}
+    out = {}
+    for name, actions in init.items():
+        out[name] = [_resolved(a, placed) if isinstance(a, Teleport) and a.pose.relative is not None else a
+                     for a in actions]
+    return out
+
+
+def _resolved(teleport: Teleport, placed: dict) -> Teleport:
+    rel = teleport.pose.relative
+    anchor = placed.get(rel.entity)
+    if anchor is None or anchor.relative is not None:
+        raise unsupported(rel.elem, f"a position relative to {rel.entity!r}, which Init does not place by an "
+                                    "absolute position")
+    return dataclasses.replace(teleport, pose=resolve(teleport.pose, anchor))
 
 
 def _executed_once(elem: Element) -> None:
@@ -108,4 +130,4 @@ def read_storyboard(elem: Element, roads: Mapping[str, Road]) -> Storyboard:
     if stop is not None and not isinstance(stop, AtTime):
         raise unsupported(stop.elem, "a stop trigger other than simulation time: crd's [end] keys go in the ego's "
                                      "crd.end.* properties")
-    return Storyboard(_init(child(elem, "Init"), roads), events, stop)
+    return Storyboard(_placed(_init(child(elem, "Init"), roads)), events, stop)

@@ -11,7 +11,8 @@ condition), and at most one ``<SpeedAction>`` in the same event. crd reads:
   largest curvature between the two vertices): the file's tools follow the chords, crd the lane;
 * the speed: ``<TimeReference><None/>``: the Init speed, and a linear ``SpeedAction`` over a
   distance ``d`` to ``v1`` makes it ``[[0, v0], [d, v1]]`` (constant acceleration over path length,
-  as crd's knots); ``<Timing>``: vertex ``i`` is reached at ``T_i = offset + scale tau_i``
+  as crd's knots); further linear ``SpeedAction`` events started by the object's own
+  ``TraveledDistanceCondition`` add knots (:mod:`.speed_segments`); ``<Timing>``: vertex ``i`` is reached at ``T_i = offset + scale tau_i``
   (relative: after the start), so each segment's speed is ``L_i / (T_i+1 - T_i)``. crd's profile
   changes speed with a constant acceleration, not in steps, so all those speeds must be one speed
   (within :data:`SPEED_TOL`); the motion then starts at ``T_0``. Other timings are a one-line error;
@@ -37,6 +38,7 @@ from .entities import Body
 from .frame import Frame
 from .opendrive import Road
 from .positions import Pose
+from .speed_segments import OverlapError, Segment, knots
 from .trajectory import FollowTrajectory, centre_path
 from .xml_source import unsupported
 
@@ -53,10 +55,11 @@ class Motion:
 
     follow: FollowTrajectory
     start: Any  #: None: the trajectory is an Init action
-    speed: SpeedChange | None
+    speed: SpeedChange | None  #: in the trajectory's event
     body: Body
     init_speed_mps: float
     init_h_rad: float
+    later: tuple[tuple[float, SpeedChange], ...] = ()  #: (path length, change) by TraveledDistanceCondition
 
 
 def _crd(frame: Frame, x: float, y: float) -> list[float]:
@@ -126,13 +129,23 @@ def _timed(motion: Motion, keys: dict[str, Any]) -> dict[str, Any]:
 
 
 def _speeds(motion: Motion) -> list[list[float]]:
-    v0, change = motion.init_speed_mps, motion.speed
-    if change is None:
-        return [[0.0, v0]]
-    dyn = change.dynamics
-    if dyn.shape != "linear" or dyn.dimension != "distance" or dyn.value <= 0.0:
-        raise unsupported(dyn.elem, "a speed change along a trajectory: crd reads a linear one over a distance")
-    return [[0.0, v0], [dyn.value, change.target_mps]]
+    """The knots of the Init speed and the speed changes (:mod:`.speed_segments`)."""
+    later = sorted(motion.later, key=lambda pair: pair[0])
+    if later and motion.start is not None and (motion.init_speed_mps > 0.0 or later[0][0] == 0.0):
+        raise unsupported(later[0][1].elem, "a speed change by travelled distance along a trajectory started in the "
+                                            "story: crd reads one from a start at rest and a distance > 0 (the "
+                                            "distance counts from t = 0)")
+    changes = ([(0.0, motion.speed)] if motion.speed is not None else []) + later
+    segs = []
+    for start_m, change in changes:
+        dyn = change.dynamics
+        if dyn.shape != "linear" or dyn.dimension != "distance" or dyn.value <= 0.0:
+            raise unsupported(dyn.elem, "a speed change along a trajectory: crd reads a linear one over a distance")
+        segs.append(Segment(start_m, dyn.value, change.target_mps))
+    try:
+        return knots(motion.init_speed_mps, segs)
+    except OverlapError as exc:
+        raise unsupported(changes[exc.index][1].elem, str(exc)) from None
 
 
 def trajectory_keys(motion: Motion, start_pose: Pose, frame: Frame, road: Road | None, ego: str) -> dict[str, Any]:
@@ -142,8 +155,9 @@ def trajectory_keys(motion: Motion, start_pose: Pose, frame: Frame, road: Road |
         raise unsupported(follow.elem, f"{motion.body.name!r} starts off its trajectory's first vertex: crd's "
                                        "objects stand at their path's start until they move")
     keys = _start(motion, frame, ego)
-    if follow.timing is not None and motion.speed is not None:
-        raise unsupported(motion.speed.elem, "a speed action with a timed trajectory: the vertex times give the speed")
+    if follow.timing is not None and (motion.speed is not None or motion.later):
+        change = motion.speed if motion.speed is not None else motion.later[0][1]
+        raise unsupported(change.elem, "a speed action with a timed trajectory: the vertex times give the speed")
     keys = _timed(motion, keys) if follow.timing is not None else keys | {"speeds": _speeds(motion)}
     crossed = _crossing(motion, keys, frame)
     if crossed is not None:
