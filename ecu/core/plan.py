@@ -24,7 +24,7 @@ from typing import NamedTuple
 from .intent import driver_accel_mps2
 from .params import CoreParams
 from .proximity import proximity
-from .relative_stop import is_moving, moving_proximity, relative_approach_m, relative_disjoint
+from .relative_stop import clear_of_lead_m, is_moving, moving_proximity, relative_approach_m, relative_disjoint
 from .relevance import in_path
 from .stopping_path import is_disjoint, stopping_distance_m
 from .types import CoreInputs
@@ -64,16 +64,17 @@ def plan(speed_mps: float, inputs: CoreInputs, relevant: bool, decel_mps2: float
     rate, range_m = inputs.object_range_rate_mps, inputs.object_range_m
     moving = relevant and is_moving(speed_mps, rate, params)
     if moving:
-        p = moving_proximity(range_m, rate, params, decel_mps2)
+        p = moving_proximity(range_m, rate, params, decel_mps2, speed_mps)
     else:
         p = proximity(relevant, range_m, speed_mps, params, decel_mps2)
     bound = params.strategy_rules.tighten(p, params)
     command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), bound.accel_upper_mps2)
     ratio = params.contingency_release_ratio
-    if moving:
+    if moving:  # clear of the object's path at constant speed and, while closing, of its own stopping region
         distance = relative_approach_m(rate, command, params, decel_mps2)
-        disjoint = relative_disjoint(distance, range_m, params)
-        release = relative_disjoint(distance * ratio, range_m, params)
+        clear = rate >= 0.0 or clear_of_lead_m(speed_mps, command, range_m, rate, params, decel_mps2) >= 0.0
+        disjoint = clear and relative_disjoint(distance, range_m, params)
+        release = clear and relative_disjoint(distance * ratio, range_m, params)
     else:
         distance = stopping_distance_m(speed_mps, command, params.hold_time_s, decel_mps2)
         disjoint = is_disjoint(distance, relevant, range_m, params)

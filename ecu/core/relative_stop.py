@@ -18,6 +18,21 @@ braking. So after braking to zero relative speed the contingency releases as
 soon as the gap opens under the driver's command, instead of braking on to a
 standstill while the range is below the standoff.
 
+**The object's own stopping region** (issue 22, "braking targets"): the constant-speed
+assumption above misses a lead that brakes. The lead's stopping region along our path ends
+where it stops if it brakes as hard as a car can on a dry road, ``peak_decel_mps2`` (the
+weakest end of its region, so every weaker braking ends further on)::
+
+    s_lead = v_obj^2 / (2 peak_decel)        v_obj = v_ego + r_dot
+
+and our command's stopping path to standstill (:func:`ecu.core.stopping_path.stopping_distance_m`,
+at the model D) must stay clear of it: ``d + standoff <= r + s_lead``. While the gap closes
+(``r_dot < 0``) both checks must hold; while it opens, the first alone (as above: braking cannot
+make an opening gap safer, so a contingency is not held on behind a faster car).
+Following at equal speeds the second asks for ``r >= v t_h + standoff + v^2 (1/(2D) - 1/(2 peak))``
+(14 m at 130 km/h with D = 0.9 peak: less than Euro NCAP's 1 s headway of CCRb), so it binds only
+when the lead brakes, or when we close on a slower object faster than the first check allows for.
+
 Tightening's proximity margin for a moving object is a time at the closing
 speed (``proximity_time_s``), capped at ``proximity_margin_m`` and floored at
 ``proximity_margin_min_m``: following at a steady gap (closing ~0) is normal
@@ -29,6 +44,7 @@ speed). Stationary objects keep the range margin of the paper reproduction.
 from __future__ import annotations
 
 from .params import CoreParams
+from .stopping_path import stopping_distance_m
 
 
 def relative_approach_m(range_rate_mps: float, accel_mps2: float, params: CoreParams,
@@ -64,14 +80,35 @@ def is_moving(speed_mps: float, range_rate_mps: float, params: CoreParams) -> bo
 
 
 def moving_proximity(range_m: float, range_rate_mps: float, params: CoreParams,
-                     decel_mps2: float | None = None) -> float:
+                     decel_mps2: float | None = None, speed_mps: float | None = None) -> float:
     """Tightening's proximity for a moving object: 0 when even full throttle would not close the gap.
 
-    ``m = range - standoff - approach(full throttle)``, ``p = clamp(1 - m / moving_margin_m, 0, 1)``.
+    ``m = range - standoff - approach(full throttle)``, ``p = clamp(1 - m / moving_margin_m, 0, 1)``; with
+    ``speed_mps`` given and the gap closing, ``m`` is also at most the full-throttle margin to the end of the
+    object's stopping region (:func:`clear_of_lead_m`), so that tightening sees the boundary the
+    contingency keeps.
     """
     approach = relative_approach_m(range_rate_mps, params.driver_max_accel_mps2, params, decel_mps2)
     if approach <= 0.0:
         return 0.0
     margin = range_m - params.standoff_m - approach
+    if speed_mps is not None and range_rate_mps < 0.0:
+        d = params.model_decel_mps2 if decel_mps2 is None else decel_mps2
+        margin = min(margin, clear_of_lead_m(speed_mps, params.driver_max_accel_mps2, range_m, range_rate_mps,
+                                             params, d))
     p = 1.0 - margin / moving_margin_m(max(0.0, -range_rate_mps), params)
     return min(1.0, max(0.0, p))
+
+
+def lead_stop_m(speed_mps: float, range_rate_mps: float, params: CoreParams) -> float:
+    """How far ahead of its present position (m) the object stops braking at ``peak_decel_mps2``."""
+    v_obj = max(0.0, speed_mps + range_rate_mps)
+    return v_obj * v_obj / (2.0 * params.peak_decel_mps2)
+
+
+def clear_of_lead_m(speed_mps: float, accel_mps2: float, range_m: float, range_rate_mps: float,
+                    params: CoreParams, decel_mps2: float) -> float:
+    """``r + s_lead - d - standoff`` (m): how far our command's stopping path to standstill ends short of
+    the end of the object's stopping region (negative: they overlap)."""
+    stop_m = stopping_distance_m(speed_mps, accel_mps2, params.hold_time_s, decel_mps2)
+    return range_m + lead_stop_m(speed_mps, range_rate_mps, params) - stop_m - params.standoff_m
