@@ -30,12 +30,12 @@ from .stall import StallWatch
 STATUS_ID = LAYOUTS["EcuStatus"].frame_id
 
 
-def reply_ids(config: EcuConfig, keyed: bool) -> frozenset[int]:
+def reply_ids(equipment: str, keyed: bool) -> frozenset[int]:
     """The frames of a cycle's reply: the requests the ECU's equipment sends every cycle (``SafetyOverride``,
     and ``SteeringOverride`` with steering authority), and with a key their authenticators. The reply is
     complete with all of them (the steering gateway counts SteeringOverride frames per cycle, so one must not
     slip into the next cycle's collection)."""
-    names = EQUIPMENT[config.equipment].requests
+    names = EQUIPMENT[equipment].requests
     ids = frozenset(LAYOUTS[name].frame_id for name in names)
     return ids | frozenset(AUTHENTICATORS[name] for name in names) if keyed else ids
 
@@ -49,13 +49,17 @@ class LockStepLink(BusLink):
         super().__init__(options, config, key)
         self._signer = SecOcSender(key) if key is not None else None
         self._status_period = config.status_period_cycles if options.mode == "process" else None
-        self._reply_ids = reply_ids(config, key is not None)
+        self._reply_ids = reply_ids(config.equipment, key is not None)
         self._clock_seq = CounterSequence()
         self._stall = StallWatch(options.reply_timeout_s, options.stall_timeout_s)
 
     def start(self) -> None:
-        """Wait for the ECU to join and to announce that it waits for a run, with settings that fit."""
+        """Wait for the ECU to join and to announce that it waits for a run, with settings that fit. An ECU that
+        runs its own settings (``--ecu-settings``) replies with its own equipment's requests, where known."""
         self._join(first_frame_joins=False)
+        own = (self._ecu_settings or {}).get("settings") or {}
+        if own.get("equipment") in EQUIPMENT:
+            self._reply_ids = reply_ids(own["equipment"], self._signer is not None)
 
     def pace(self, cycle: int) -> None:
         pass

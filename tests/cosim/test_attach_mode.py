@@ -208,8 +208,14 @@ def test_a_planar_scene_runs_on_an_ecu_equipped_for_it(bench, capsys):
     try:
         assert crd(["run", str(bench / "p.toml"), "--ecu", "attach", "--bus-channel", ecu.channel,
                     "--out", str(bench / "refused")]) == 1
+        # with the ECU's own settings it runs, waiting each cycle for the requests that ECU sends (no stall
+        # for a SteeringOverride that a longitudinal ECU never sends)
+        own = ClosedLoop(load_scenario(bench / "p.toml"), _fmu(), "tightening",
+                         ecu=EcuOptions(mode="attach", channel=ecu.channel, ecu_settings="ecu")).run()
     finally:
         ecu.stop()
+    assert own.error is None and own.ecu_settings["settings"]["equipment"] == "longitudinal"
+    assert not any(f.arbitration_id == 0x094 for f in own.frames)
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert "runs other settings than the scenario's [ecu]" in err and "with equipment 'longitudinal' instead of " \
         "this scene's 'planar_steering' (state equipment = 'planar_steering' in the [ecu] crd ecu reads)" in err
