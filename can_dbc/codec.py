@@ -59,7 +59,8 @@ class _LastSignals:
     the inactive ``SteeringOverride``, the driver's pedals while he holds them, ``SafetyOverride``
     outside an intervention. For those the payload is packed and its CRC computed once per counter
     value, not once per frame: a dict comparison and a copy instead of the packing loop and the CRC
-    (the paper run, tightening: 24,000 of its 27,600 frames repeat the last signals of their message; a
+    (measured when every run carried the planar frames, before ``ecu.equipment``: the paper run,
+    tightening: 24,000 of its 27,600 frames repeat the last signals of their message; a
     repeated ``RadarTrack3`` encodes in 0.3x the time of a changed one, timeit in one process on the
     loaded 2-core machine).
     """

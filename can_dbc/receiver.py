@@ -100,8 +100,8 @@ def _decode(layout: MessageLayout, payload: int) -> dict[str, float]:
 #: Most frames repeat an earlier payload (a constant content comes round with the counter every 15 frames:
 #: the empty ``RadarTrack`` slots, the inactive ``SteeringOverride``, ``SafetyOverride`` outside an
 #: intervention, the held pedals), so the CRC and the decode run once per distinct payload, not per frame
-#: (the paper run, tightening: 3,600 decodes for 27,600 frames; a remembered ``RadarTrack3`` is checked in
-#: 0.8x the time of a new one, timeit in one process).
+#: (measured when every run carried the planar frames: the paper run, tightening: 3,600 decodes for 27,600
+#: frames; a remembered ``RadarTrack3`` is checked in 0.8x the time of a new one, timeit in one process).
 _DECODED: dict[int, dict[int, Mapping[str, float]]] = {fid: {} for fid in LAYOUTS_BY_ID}
 #: payloads remembered per frame ID before the memo starts over (a changing signal fills it in 64 frames)
 _DECODED_MAX = 64

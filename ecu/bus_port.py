@@ -26,11 +26,11 @@ from can_dbc.units import KMH_PER_MPS, PERCENT, dbc_per_si
 
 from .core import CoreInputs, CoreOutputs
 from .core.types import NEVER_S, FaultFlag
+from .equipment import CORE_INPUT_MESSAGES, PLANAR_INPUT_MESSAGES
 
-#: messages the ECU's core consumes (the SimClock paces sim-time mode only).
-CORE_INPUT_MESSAGES = ("WheelSpeeds", "DriverInput", "ObjectTrack")
-#: every message the ECU receives and checks: the core's, and the planar ones it latches but does not use yet
-INPUT_MESSAGES = (*CORE_INPUT_MESSAGES, "EscDynamics", *TRACK_SLOTS)
+#: every message an ECU may receive: the core's, and the planar ones (it latches them; the core does not use them
+#: yet). Which of them an ECU receives is its equipment's (:mod:`ecu.equipment`)
+INPUT_MESSAGES = (*CORE_INPUT_MESSAGES, *PLANAR_INPUT_MESSAGES)
 SIM_CLOCK = "SimClock"
 #: each fault bit's 1-bit ``EcuStatus`` signal, from the DBC (bit k at DBC bit 50 + k)
 FAULT_SIGNALS: dict[FaultFlag, str] = {FaultFlag(bit): name for bit, name in enumerate(DBC_FAULT_SIGNALS)}
@@ -124,7 +124,8 @@ class InputLatch:
 
 
 def steering_message(counter: int) -> can.Message:
-    """``SteeringOverride`` pass-through (``SteerActive`` 0): the longitudinal ECU requests no steering."""
+    """``SteeringOverride`` pass-through (``SteerActive`` 0): the longitudinal core requests no steering (sent by
+    an ECU with steering authority only, :mod:`ecu.equipment`)."""
     return encode("SteeringOverride", _NO_STEERING, counter=counter)
 
 

@@ -2,7 +2,7 @@
 
 ``EcuConfig`` *is* the core's :class:`~ecu.core.params.CoreParams` (every
 number the arithmetic uses, with defaults) plus the shell's own settings
-(``status_period_cycles``, ``sim_time``, ``key_file``). It is passed to the core directly.
+(``status_period_cycles``, ``sim_time``, ``key_file``, ``equipment``). It is passed to the core directly.
 
 Every key is declared once, on its field (:func:`ecu.settings.setting`: type,
 unit, range or choices, default, doc), and loaded by the one loader of crd
@@ -29,6 +29,7 @@ from can_dbc.contract import ECU_CYCLE_S, cycle_time_s
 
 from . import settings
 from .core.params import CoreParams
+from .equipment import DEFAULT as DEFAULT_EQUIPMENT, EQUIPMENT
 from .settings import Range, SettingError, setting
 
 #: EcuStatus is sent every this many ECU cycles (DBC: 100 ms / 10 ms)
@@ -49,6 +50,10 @@ class EcuConfig(CoreParams):
     sim_time: bool = setting(False, doc="one cycle per received SimClock frame instead of on the wall clock")
     key_file: str = setting("", doc="SecOC key file (32 hex digits, mode 0600; can_dbc.secoc); "
                                     "empty: E2E protection only")
+    equipment: str = setting(DEFAULT_EQUIPMENT, allowed=tuple(EQUIPMENT),
+                             doc="which frames the ECU receives and sends (ecu.equipment): " + "; ".join(
+                                 f"{e.name}: {e.doc}" for e in EQUIPMENT.values()) + ". In a scenario the "
+                                 "scene gives it (Scenario.equipment); stated, it must be the scene's")
 
     def __post_init__(self) -> None:
         settings.check(self)

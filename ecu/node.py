@@ -3,8 +3,11 @@
 One cycle (:meth:`EcuNode.step`): drain every frame received since the last
 cycle through the E2E receiver (bad frames are counted and ignored; a fresh
 frame's receive time is the cycle time ``t_s``, so the same frames at the same
-cycle times give the same outputs), run the core, send ``SafetyOverride`` and,
-every ``status_period_cycles``-th cycle, ``EcuStatus``.
+cycle times give the same outputs), run the core, send ``SafetyOverride`` (and
+``SteeringOverride`` with steering authority) and, every
+``status_period_cycles``-th cycle, ``EcuStatus``. Which frames it receives and
+sends is its equipment's (``config.equipment``, :mod:`ecu.equipment`): a frame
+of a message it is not equipped for is counted as ``UnknownFrame`` and ignored.
 
 Scheduling is separate (:mod:`ecu.scheduler`): lock-step by calling
 ``step(t_s)``, real time on the wall clock, or sim time paced by ``SimClock``
@@ -45,8 +48,9 @@ import can
 from can_dbc import (AUTHENTICATORS, ECU_CYCLE_S, LAYOUTS, CounterSequence, Frame, Receiver, SecOcSender,
                      SecOcVerifier, cycle_time_s, encode, load_key_file)
 
-from .bus_port import INPUT_MESSAGES, SIM_CLOCK, InputLatch, override_message, status_message, steering_message
+from .bus_port import SIM_CLOCK, InputLatch, override_message, status_message, steering_message
 from .config import STATUS_PERIOD_CYCLES, EcuConfig
+from .equipment import EQUIPMENT
 from .config_digest import identity_signals
 from .core import CoreOutputs, CoreState, FaultFlag, Mode, step as core_step
 from .scheduler import RunBoundary, RunReport, run_real_time, run_sim_time
@@ -79,7 +83,9 @@ class EcuNode:
         if key is None and self.config.key_file:
             key = load_key_file(self.config.key_file)
         self._signer = SecOcSender(key) if key is not None else None
-        self._receiver = Receiver(names=(*INPUT_MESSAGES, SIM_CLOCK),
+        equipment = EQUIPMENT[self.config.equipment]
+        self._steers = equipment.steering  # sends SteeringOverride: the ECU has steering authority
+        self._receiver = Receiver(names=(*equipment.inputs, SIM_CLOCK),
                                   secoc=SecOcVerifier(key) if key is not None else None)
         self._clock_ids = {SIM_CLOCK_ID} | ({AUTHENTICATORS[SIM_CLOCK]} if key is not None else set())
         self._last_clock_s: float | None = None
@@ -236,16 +242,21 @@ class EcuNode:
             self._errors["internal_errors"] += 1
             outputs = self._internal_fault()
         self.outputs = outputs
-        for request in (override_message(outputs, self._next_override()), steering_message(self._next_steering())):
-            self._send(request)
-            if self._signer is not None:
-                self._send(self._signer.authenticator(request))
+        self._request(override_message(outputs, self._next_override()))
+        if self._steers:
+            self._request(steering_message(self._next_steering()))
         if self._cycle_index % self.config.status_period_cycles == 0:
             self._send(status_message(outputs, self.config.strategy_code, self._next_status()))
             if self._identity is not None and self._cycle_index % IDENTITY_PERIOD_CYCLES == 0:
                 self.announce()
         self._cycle_index += 1
         return outputs
+
+    def _request(self, request: can.Message) -> None:
+        """Send one of the ECU's requests, followed by its SecOC authenticator when keyed."""
+        self._send(request)
+        if self._signer is not None:
+            self._send(self._signer.authenticator(request))
 
     def _internal_fault(self) -> CoreOutputs:
         state = self._state

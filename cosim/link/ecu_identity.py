@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable
 
@@ -37,6 +37,7 @@ import can
 from can_dbc import AUTHENTICATORS, LAYOUTS, FrameError, SecOcVerifier, check_alone, enumeration
 from ecu import EcuConfig
 from ecu.config_digest import SOFTWARE_VERSION, announced_digest, settings_of, version_text
+from ecu.equipment import EQUIPMENT
 from ecu.errors import ConfigError
 
 from ..errors import CosimError
@@ -168,4 +169,9 @@ class IdentityCheck:
         candidates = [("the scenario's [ecu]", self._config)]
         candidates += [(f"crd ecu's defaults for strategy {name}", EcuConfig(strategy=name))
                        for name in _STRATEGY_NAMES.values()]
+        # the scenario's [ecu] read without the scene (crd ecu --config SCENARIO), which gives the equipment
+        candidates += [(f"the scenario's [ecu] with equipment {name!r} instead of this scene's "
+                        f"{self._config.equipment!r} (state equipment = {self._config.equipment!r} in the [ecu] "
+                        "crd ecu reads)", replace(self._config, equipment=name))
+                       for name in EQUIPMENT if name != self._config.equipment]
         return next(((name, cfg) for name, cfg in candidates if announced_digest(cfg) == seen.digest), None)

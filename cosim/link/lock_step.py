@@ -3,7 +3,8 @@
 Each cycle the master sends its frames, then ``SimClock`` (``SimTimeMs =
 round(t * 1000)``); the ECU (``crd ecu --sim-time``) runs one cycle on it,
 after the frames before it, and the master waits up to ``stall_timeout_s``
-(wall time) for that cycle's ``SafetyOverride`` and ``SteeringOverride`` (and,
+(wall time) for that cycle's ``SafetyOverride`` (and ``SteeringOverride`` from an
+ECU with steering authority, :mod:`ecu.equipment`; and,
 for a spawned ECU, the ``EcuStatus`` due in that cycle) before it advances. The ECU sees the same
 frames at the same cycle times as in process, so metrics and time series are
 identical. A silent ECU is a stall (:mod:`cosim.link.stall`): simulated time
@@ -20,17 +21,23 @@ import can
 
 from can_dbc import AUTHENTICATORS, LAYOUTS, CounterSequence, SecOcSender, encode
 from ecu import EcuConfig
+from ecu.equipment import EQUIPMENT
 
 from .bus_link import BusLink
 from .ecu_link import EcuOptions, LinkReport
 from .stall import StallWatch
 
 STATUS_ID = LAYOUTS["EcuStatus"].frame_id
-#: the ECU's requests, sent every cycle: a cycle's reply is complete with both (the steering gateway
-#: counts SteeringOverride frames per cycle, so one must not slip into the next cycle's collection)
-_REQUESTS = ("SafetyOverride", "SteeringOverride")
-REPLY_IDS = frozenset(LAYOUTS[name].frame_id for name in _REQUESTS)
-REPLY_AUTH_IDS = REPLY_IDS | frozenset(AUTHENTICATORS[name] for name in _REQUESTS)
+
+
+def reply_ids(equipment: str, keyed: bool) -> frozenset[int]:
+    """The frames of a cycle's reply: the requests the ECU's equipment sends every cycle (``SafetyOverride``,
+    and ``SteeringOverride`` with steering authority), and with a key their authenticators. The reply is
+    complete with all of them (the steering gateway counts SteeringOverride frames per cycle, so one must not
+    slip into the next cycle's collection)."""
+    names = EQUIPMENT[equipment].requests
+    ids = frozenset(LAYOUTS[name].frame_id for name in names)
+    return ids | frozenset(AUTHENTICATORS[name] for name in names) if keyed else ids
 
 
 class LockStepLink(BusLink):
@@ -42,12 +49,17 @@ class LockStepLink(BusLink):
         super().__init__(options, config, key)
         self._signer = SecOcSender(key) if key is not None else None
         self._status_period = config.status_period_cycles if options.mode == "process" else None
+        self._reply_ids = reply_ids(config.equipment, key is not None)
         self._clock_seq = CounterSequence()
         self._stall = StallWatch(options.reply_timeout_s, options.stall_timeout_s)
 
     def start(self) -> None:
-        """Wait for the ECU to join and to announce that it waits for a run, with settings that fit."""
+        """Wait for the ECU to join and to announce that it waits for a run, with settings that fit. An ECU that
+        runs its own settings (``--ecu-settings``) replies with its own equipment's requests, where known."""
         self._join(first_frame_joins=False)
+        own = (self._ecu_settings or {}).get("settings") or {}
+        if own.get("equipment") in EQUIPMENT:
+            self._reply_ids = reply_ids(own["equipment"], self._signer is not None)
 
     def pace(self, cycle: int) -> None:
         pass
@@ -64,7 +76,7 @@ class LockStepLink(BusLink):
         endpoint, received = self.endpoint, []
         if endpoint.lost:
             return endpoint.drain(t_s, received)
-        wanted = set(REPLY_IDS if self._signer is None else REPLY_AUTH_IDS)
+        wanted = set(self._reply_ids)
         if self._status_period is not None and cycle % self._status_period == 0:
             wanted.add(STATUS_ID)
         # without a peer count the first reply wait is the join wait

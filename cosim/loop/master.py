@@ -6,8 +6,9 @@ default 1 ms); the ECU cycle is ``N = c / h`` plant steps, with ``c`` the DBC's
 boundary, in this order:
 
 1. read the plant outputs; the driver model makes the pedals;
-2. send ``DriverInput`` and ``WheelSpeeds`` (every cycle) and ``ObjectTrack``
-   (every 5th cycle), each with its own E2E counter, to the ECU through the
+2. send ``DriverInput`` and ``WheelSpeeds`` (every cycle) and ``ObjectTrack`` (every 5th cycle;
+   to an ECU with the planar sensors, :mod:`ecu.equipment`, also ``EscDynamics`` and ``RadarTrack0..7``),
+   each with its own E2E counter, to the ECU through the
    link chosen by :class:`cosim.link.ecu_link.EcuOptions` (an
    :class:`~cosim.link.ecu_link.EcuLink`): by default an in-process bus with
    a channel unique to the run, or a bus shared with a ``crd ecu`` process
@@ -60,6 +61,7 @@ from numpy.random import default_rng  # here, not at the first run: each forked 
 from can_dbc import ECU_CYCLE_S, CounterSequence, SecOcSender, encode, signal_layout
 from can_dbc.units import KMH_PER_MPS
 from ecu import EcuConfig
+from ecu.equipment import EQUIPMENT
 
 from ..errors import EcuStallError, FmiStepError, interrupt_signal, signal_name
 from ..link.ecu_link import EcuOptions, open_link, run_key
@@ -82,7 +84,7 @@ from ..world.scene_contact import ContactWatch, Hit
 from ..world.steering_models import make_steering
 from ..results.run_record import pose_cells, timeseries_columns
 from .phase_timer import PHASES, PhaseTimer, instrument
-from .planar_frames import PlanarFrames, tracks_2d, tracks_of
+from .planar_frames import PlanarFrames, tracks_2d
 
 log = logging.getLogger(__name__)
 
@@ -93,20 +95,18 @@ Progress = Callable[[float, float], None]
 
 
 def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
-    """The scenario's ``[ecu]`` (an :class:`ecu.EcuConfig`, checked at load), ``strategy`` in place of its own."""
-    if strategy is None or strategy == scenario.ecu.strategy:
-        return scenario.ecu
-    return dataclasses.replace(scenario.ecu, strategy=strategy)
+    """The scenario's ``[ecu]`` (an :class:`ecu.EcuConfig`, checked at load), ``strategy`` in place of its own,
+    with the equipment the scene gives (``Scenario.equipment``: which frames the run's bus carries)."""
+    changes = {"strategy": strategy} if strategy is not None and strategy != scenario.ecu.strategy else {}
+    if scenario.ecu.equipment != scenario.equipment:
+        changes["equipment"] = scenario.equipment
+    return dataclasses.replace(scenario.ecu, **changes) if changes else scenario.ecu
 
 
 class _Outgoing:
-    """What the first half of a cycle leaves for the second.
-
-    A plain slotted class: built once per cycle, and about 3.5x cheaper to build
-    (0.26 instead of 0.96 µs, timeit on the loaded 2-core machine) than the
-    frozen dataclass it replaces, whose ``__init__`` goes through
-    ``object.__setattr__``; nothing mutates it.
-    """
+    """What the first half of a cycle leaves for the second. A plain slotted class, built once per cycle: 3.5x
+    cheaper to build (0.26 instead of 0.96 µs, timeit on the loaded 2-core machine) than the frozen dataclass
+    it replaces, whose ``__init__`` goes through ``object.__setattr__``; nothing mutates it."""
 
     __slots__ = ("sample", "ego", "pedals", "steering_rad", "gap_m", "frames")
 
@@ -138,6 +138,8 @@ class ClosedLoop:
                                                 lockstep=not self.ecu.realtime)
         self._overlay_rad = self._overlay_next_rad = 0.0  # its steer_request: this cycle's, the next one's
         self._planar = PlanarFrames()
+        #: the planar sensors' frames (EscDynamics, RadarTrack0..7): sent only to an ECU equipped with them
+        self._planar_inputs = EQUIPMENT[self._ecu_cfg.equipment].planar
         self.record = RunRecord(self.strategy, RunMetrics(self.strategy), columns=timeseries_columns(scenario))
         # bound once: next() of each message's E2E counter (C-level), called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
@@ -187,12 +189,12 @@ class ClosedLoop:
                                    "WheelSpeedRL": min(top, max(0.0, w_rl * k)),
                                    "WheelSpeedRR": min(top, max(0.0, w_rr * k))}, self._next_wheels()),
         ]
-        out.append(self._planar.esc_of(sample.yaw_rate_radps, sample.ay_mps2, sample.ax_mps2))
+        if self._planar_inputs:  # EscDynamics and the RadarTrack slots: to an ECU with the planar sensors
+            out.append(self._planar.esc_of(sample.yaw_rate_radps, sample.ay_mps2, sample.ax_mps2))
         if cycle % self.n_track == 0:
-            measured = self.radar.measure()
-            out.append(encode("ObjectTrack", measured.signals(), self._next_track()))
-            # planar runs: the 2-D radar's tracks; 1-D runs: today's measurement as one track
-            out += self._planar.tracks(tracks_of(measured) if tracks is None else tracks_2d(tracks))
+            out.append(encode("ObjectTrack", self.radar.measure().signals(), self._next_track()))
+            if self._planar_inputs:  # the 2-D radar's tracks
+                out += self._planar.tracks(tracks_2d(tracks))
         if self._signer is not None:  # each frame followed by its SecOC authenticator
             sign = self._signer.authenticator
             signed = []

@@ -3,10 +3,10 @@
 * ``EscDynamics`` every ECU cycle (10 ms), from the plant's motion (:class:`can_dbc.planar.EscDynamics`).
 * ``RadarTrack<slot>`` every radar cycle (50 ms), each slot with its own E2E counter: the
   radar's tracks in its report order, slot 0 first, the slots beyond them sent empty, tracks
-  beyond the eighth not sent (the slot rule in the DBC). :func:`tracks_of` turns today's 1-D
-  radar measurement into that list: one track, the measured object in 2-D (x = range,
-  y = lateral offset, vx = range rate, vy = 0; id 0; size class ``UNKNOWN``: the model has none;
-  existence the top class: the model reports an object or none).
+  beyond the eighth not sent (the slot rule in the DBC).
+
+Both are sent only to an ECU equipped with the planar sensors (a planar scene, :mod:`ecu.equipment`):
+a 1-D run's bus carries neither.
 """
 
 from __future__ import annotations
@@ -21,20 +21,11 @@ from can_dbc.contract import enumeration
 from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_signals, track_signals
 
 from ..world.radar2d import Track as Radar2DTrack
-from ..world.radar_model import Track as RadarTrack
 
 _EXISTENCE = {name: v for v, name in enumeration("RadarTrack0", "Track0Existence").items()}
 _SIZE = {name: v for v, name in enumeration("RadarTrack0", "Track0SizeClass").items()}
 _WHEEL_ANGLE_MAX_DEG = signal_layout("DriverInput", "SteeringWheelAngle").maximum
 _WHEEL_RATE_MAX_DEGPS = signal_layout("DriverInput", "SteeringWheelRate").maximum
-
-
-def tracks_of(measured: RadarTrack) -> list[Track]:
-    """Today's radar measurement as a list of 2-D tracks (empty when it reports no object)."""
-    if not measured.valid:
-        return []
-    return [Track(0, _SIZE["UNKNOWN"], _EXISTENCE["UP_TO_100_PCT"], measured.range_m, measured.lateral_m,
-                  measured.range_rate_mps, 0.0)]
 
 
 #: existence probability -> the DBC's existence class: the first class whose upper bound is not below it
@@ -72,7 +63,7 @@ class PlanarFrames:
 
     def esc_of(self, yaw_rate_radps: float, ay_mps2: float, ax_mps2: float) -> can.Message:
         """``EscDynamics`` from the plant's motion in the vehicle frame (PlantSample: its ay and ax outputs, or
-        vx * yaw rate and its accel without them). Lateral exactly 0 while nothing steers (every 1-D run)."""
+        vx * yaw rate and its accel without them)."""
         return self.esc(EscDynamics(yaw_rate_radps, ay_mps2, ax_mps2))
 
     def esc(self, esc: EscDynamics) -> can.Message:

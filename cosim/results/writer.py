@@ -28,7 +28,7 @@ from typing import Iterable, Sequence
 from .events import event_counts
 from .run_record import TIMESERIES_COLUMNS, RunRecord
 from ..scenarios.config import Scenario
-from ..scenarios.resolve import scenario_to_dict
+from ..scenarios.resolve import DERIVED_ECU_KEYS, scenario_to_dict
 from ..scenarios.toml_writer import dumps
 
 
@@ -149,7 +149,8 @@ def write_resolved_config(path: Path, scenario: Scenario, ecu_config, prov: dict
     """``config.resolved.toml``; its ``[ecu]`` is what the ECU ran: an attached ECU's own settings when the run
     used them (``--ecu-settings ecu``), as far as they are known (:func:`_ecu_table`)."""
     data = scenario_to_dict(scenario, strategy=ecu_config.strategy)
-    data["ecu"].update({f.name: getattr(ecu_config, f.name) for f in fields(ecu_config) if f.init})
+    data["ecu"].update({f.name: getattr(ecu_config, f.name) for f in fields(ecu_config)
+                        if f.init and f.name not in DERIVED_ECU_KEYS})
     header = [
         "Resolved scenario: every value used by the run (defaults included); `crd run` reads it.",
         f"package version: {prov['package_version']}",

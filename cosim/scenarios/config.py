@@ -17,6 +17,7 @@ from typing import Mapping
 
 from can_dbc.contract import ECU_CYCLE_S, STRATEGIES, cycle_time_s, timeout_s  # STRATEGIES: for importers
 from ecu.config import EcuConfig
+from ecu.equipment import equipment_for
 from ecu.settings import Range, setting
 
 from ..world.targets import TARGET_CLASSES
@@ -349,6 +350,13 @@ class Scenario:
         """
         return (self.road is not None or self.driver.steering is not None or self.plant.initial_y_m is not None
                 or self.plant.initial_yaw_rad is not None or any(o.planar for o in self.scene_objects()))
+
+    @property
+    def equipment(self) -> str:
+        """The ECU's equipment in this scene (:mod:`ecu.equipment`): ``longitudinal`` in the 1-D world;
+        ``planar`` (the ESC and the 2-D radar) in the plane, ``planar_steering`` when its plant also takes the
+        ECU's ``steer_request``. It decides which frames the run's bus carries (``EcuConfig.equipment``)."""
+        return equipment_for(self.planar, any(m.role == "steer_request" for m in self.plant.inputs)).name
 
     def scene_objects(self) -> tuple[ObjectConfig, ...]:
         """Every enabled object: ``[[objects]]`` if given, else the single ``[object]``."""

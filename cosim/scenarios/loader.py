@@ -9,7 +9,8 @@ and for a near miss the closest valid key. ``[ecu]`` is checked at load like
 every section, including its agreement with the DBC (no ``cycle_s`` other
 than the contract's 10 ms). What this module adds are the rules that span
 keys: the builtin plant's default maps, a third-party FMU's mandatory maps,
-``[object]`` versus ``[[objects]]``, and a plant step that divides the ECU cycle.
+``[object]`` versus ``[[objects]]``, a plant step that divides the ECU cycle, and an
+``[ecu] equipment``, if stated, that is the scene's (``Scenario.equipment``).
 Every error of a file names the file (:func:`load_scenario`).
 """
 
@@ -109,7 +110,16 @@ def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) ->
     if abs(cycles - round(cycles)) > 1e-9:
         raise SettingError("scenario.step_s", f"expected a divisor of the {ECU_CYCLE_S} s ECU cycle, "
                                               f"got {scenario.scenario.step_s!r}")
-    return dataclasses.replace(scenario, plant=plant)
+    scenario = dataclasses.replace(scenario, plant=plant)
+    _check_equipment(scenario, data.get("ecu", {}))
+    return scenario
+
+
+def _check_equipment(scenario: Scenario, given: Mapping[str, Any]) -> None:
+    """``[ecu] equipment`` need not be stated: the scene gives it (``Scenario.equipment``); stated, it must be it."""
+    if "equipment" in given and scenario.ecu.equipment != scenario.equipment:
+        raise SettingError("ecu.equipment", f"expected {scenario.equipment!r}, what this scene equips the ECU with "
+                                            f"(ecu.equipment), got {scenario.ecu.equipment!r}")
 
 
 def load_scenario(path: str | Path) -> Scenario:

@@ -19,9 +19,16 @@ from .planar_rules import PLACEMENTS, replaced_keys
 from .toml_writer import dumps
 
 
+#: ``[ecu]`` keys the scene gives (``Scenario.equipment``): not written, since reading the file back derives them
+#: again (and so a sweep's run keys and seeds, hashed from this mapping, stay as they were before the key existed)
+DERIVED_ECU_KEYS = ("equipment",)
+
+
 def scenario_to_dict(scenario: Scenario, strategy: str | None = None) -> dict[str, Any]:
-    """Plain nested dict of every resolved value (defaults included)."""
+    """Plain nested dict of every resolved value (defaults included; not the scene's ``DERIVED_ECU_KEYS``)."""
     out = plain(scenario)
+    for key in DERIVED_ECU_KEYS:
+        del out["ecu"][key]
     out.pop("object" if out["objects"] else "objects")  # [[objects]] replaces [object]
     for table in out.get("objects") or [out.get("object") or {}]:
         _drop_replaced(table)

@@ -192,3 +192,42 @@ def test_ecu_settings_other_than_the_scenarios_need_an_ecu_on_a_bus():
 
     with pytest.raises(EcuLinkError, match="--ecu-settings ecu: expected --ecu attach or process"):
         EcuOptions(ecu_settings="ecu")
+
+
+@pytest.mark.wallclock  # processes on a hub; lock-step keeps the results independent of timing
+def test_a_planar_scene_runs_on_an_ecu_equipped_for_it(bench, capsys):
+    """A planar scene equips the ECU with the planar sensors and steering (``Scenario.equipment``): an ECU that
+    read the scenario's ``[ecu]`` without it (which leaves the scene out) is refused, naming the equipment; one
+    whose ``[ecu]`` states it runs as in process, the planar frames on the bus."""
+    from can_dbc import LAYOUTS_BY_ID
+    from can_dbc.planar import TRACK_SLOTS
+
+    planar = SCENARIO + '[driver.steering]\nmodel = "held"\n'  # a steering driver: a scene of the plane
+    (bench / "p.toml").write_text(planar)
+    ecu = Ecu(bench, "--config", str(bench / "p.toml"))
+    try:
+        assert crd(["run", str(bench / "p.toml"), "--ecu", "attach", "--bus-channel", ecu.channel,
+                    "--out", str(bench / "refused")]) == 1
+        # with the ECU's own settings it runs, waiting each cycle for the requests that ECU sends (no stall
+        # for a SteeringOverride that a longitudinal ECU never sends)
+        own = ClosedLoop(load_scenario(bench / "p.toml"), _fmu(), "tightening",
+                         ecu=EcuOptions(mode="attach", channel=ecu.channel, ecu_settings="ecu")).run()
+    finally:
+        ecu.stop()
+    assert own.error is None and own.ecu_settings["settings"]["equipment"] == "longitudinal"
+    assert not any(f.arbitration_id == 0x094 for f in own.frames)
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "runs other settings than the scenario's [ecu]" in err and "with equipment 'longitudinal' instead of " \
+        "this scene's 'planar_steering' (state equipment = 'planar_steering' in the [ecu] crd ecu reads)" in err
+    (bench / "p.toml").write_text(planar.replace("peak_decel_mps2 = 6.5", 'peak_decel_mps2 = 6.5\nequipment = '
+                                                                          '"planar_steering"'))
+    ecu = Ecu(bench, "--config", str(bench / "p.toml"))
+    try:
+        attached = ClosedLoop(load_scenario(bench / "p.toml"), _fmu(), "tightening",
+                              ecu=EcuOptions(mode="attach", channel=ecu.channel)).run()
+    finally:
+        ecu.stop()
+    assert process_gone(ecu.proc.pid) and attached.error is None
+    _same_run(attached, run_scenario(load_scenario(bench / "p.toml"), _fmu(), "tightening"))
+    names = {LAYOUTS_BY_ID[f.arbitration_id].name for f in attached.frames if f.arbitration_id in LAYOUTS_BY_ID}
+    assert {"EscDynamics", "SteeringOverride", *TRACK_SLOTS} <= names

@@ -3,7 +3,8 @@ exactly as from the DBC; canmatrix exports FIBEX and ARXML; KCD and SYM load bac
 every message and signal has a comment; the fault bits are named signals; ``crd dbc``
 shows enumeration labels and exports.
 
-The logged run is a 3 s closed-loop run that invokes the contingency (about 2 s of test time).
+The logged run is a 3 s closed-loop run in the plane (so with every frame of the contract) that invokes
+the contingency (about 2 s of test time).
 """
 
 from __future__ import annotations
@@ -28,8 +29,10 @@ def logged_run(tmp_path_factory) -> list[can.Message]:
 
     tmp = tmp_path_factory.mktemp("run")
     scen = tmp / "s.toml"
+    # a steering driver (the wheel held straight) makes it a scene of the plane: its bus carries the planar
+    # frames too (a 1-D scene's carries none, ecu.equipment)
     scen.write_text('[scenario]\nduration_s = 3.0\n[object]\nposition_m = 15.0\n'
-                    '[ecu]\nstrategy = "conservative"\n')
+                    '[driver.steering]\nmodel = "held"\n[ecu]\nstrategy = "conservative"\n')
     assert crd(["run", str(scen), "--out", str(tmp / "o"), "--can-log", "can.blf"]) == 0
     return list(can.LogReader(str(tmp / "o" / "conservative" / "can.blf")))
 

@@ -4,13 +4,17 @@ from __future__ import annotations
 
 import threading
 
+import pytest
+
 from can_dbc import Receiver, encode
 from can_transport import PairSocketBus
 from ecu import EcuConfig, EcuNode
 from tests.ecu.test_node import _inputs
 
 
-def test_each_sim_time_cycle_sends_its_frames_in_one_write(tmp_path, monkeypatch) -> None:
+@pytest.mark.parametrize("equipment, requests", [("longitudinal", ["SafetyOverride"]),
+                                                 ("planar_steering", ["SafetyOverride", "SteeringOverride"])])
+def test_each_sim_time_cycle_sends_its_frames_in_one_write(tmp_path, monkeypatch, equipment, requests) -> None:
     channel = str(tmp_path / "c.sock")
     with PairSocketBus(channel) as tester, PairSocketBus(channel, role="connect") as ecu_bus:
         assert tester.wait_for_peer(5.0)
@@ -18,7 +22,7 @@ def test_each_sim_time_cycle_sends_its_frames_in_one_write(tmp_path, monkeypatch
         real = ecu_bus._send_records
         monkeypatch.setattr(ecu_bus, "_send_records", lambda records, timeout: (writes.append(len(records)),
                                                                                 real(records, timeout)))
-        node = EcuNode(ecu_bus, EcuConfig(sim_time=True))
+        node = EcuNode(ecu_bus, EcuConfig(sim_time=True, equipment=equipment))
         stop = threading.Event()
         thread = threading.Thread(target=node.run, args=(stop,))
         thread.start()
@@ -27,13 +31,14 @@ def test_each_sim_time_cycle_sends_its_frames_in_one_write(tmp_path, monkeypatch
             for k in range(20):
                 for msg in [*_inputs(k), encode("SimClock", {"SimTimeMs": 10 * k}, counter=k % 15)]:
                     tester.send(msg)
-                while len(ids) < 2 * (k + 1) + (k // 10 + 1):  # this cycle's two requests (and EcuStatus)
+                while len(ids) < len(requests) * (k + 1) + (k // 10 + 1):  # this cycle's requests (and EcuStatus)
                     msg = tester.recv(timeout=5.0)
                     ids.append(rx.check(msg).name)
         finally:
             stop.set()
             thread.join(5.0)
-    assert node.cycles == 20 and ids.count("SafetyOverride") == ids.count("SteeringOverride") == 20
-    assert ids.count("EcuStatus") == 2
-    # one write a cycle of 24-byte records: SafetyOverride and SteeringOverride, EcuStatus every 10th cycle
-    assert writes == [72] + [48] * 9 + [72] + [48] * 9
+    assert node.cycles == 20 and all(ids.count(name) == 20 for name in requests)
+    assert ids.count("EcuStatus") == 2 and set(ids) == {*requests, "EcuStatus"}
+    # one write a cycle of 24-byte records: the equipment's requests, EcuStatus every 10th cycle
+    per_cycle = 24 * len(requests)
+    assert writes == [per_cycle + 24] + [per_cycle] * 9 + [per_cycle + 24] + [per_cycle] * 9
