@@ -36,7 +36,7 @@ if TYPE_CHECKING:
     from .plan import Plan
 
 
-_STANDBY, _TIGHTENING, _CONTINGENCY, _FAULT = Mode.STANDBY, Mode.TIGHTENING, Mode.CONTINGENCY, Mode.FAULT
+_STANDBY, _TIGHTENING, _CONTINGENCY, _FAULT = (Mode[name] for name in ("STANDBY", "TIGHTENING", "CONTINGENCY", "FAULT"))
 
 
 def contingency_active(state: CoreState, params: CoreParams) -> bool:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 from can_dbc.contract import signal_range, signal_resolution
 
@@ -38,6 +38,7 @@ PASS_THROUGH_THROTTLE_PCT = 100.0
 PASS_THROUGH_DECEL_MPS2 = 0.0
 _THROTTLE_STEPS_PER_PCT = float(round(1.0 / THROTTLE_RESOLUTION_PCT))
 _DECEL_STEPS_PER_MPS2 = float(round(1.0 / DECEL_RESOLUTION_MPS2))
+_FAULT = Mode["FAULT"]
 
 
 class GatedOutputs(NamedTuple):
@@ -48,34 +49,36 @@ class GatedOutputs(NamedTuple):
     interventions: int
 
 
-def _checked(value: float, limits: tuple[float, float], steps_per_unit: float, safe: float) -> tuple[float, bool]:
+def _checked(value: object, limits: tuple[float, float], steps_per_unit: float, safe: float) -> tuple[float, bool]:
     """(the value quantised to the DBC resolution, False), or (``safe``, True) if it is not a finite real
     number inside ``limits`` once quantised."""
     cls = value.__class__
-    if cls is not float and cls is not int:  # the common case costs two identity tests
-        if not isinstance(value, numbers.Real) or isinstance(value, bool):
-            return safe, True
-        value = float(value)  # e.g. np.float64, np.int32
-    if not math.isfinite(value):
+    if cls is float or cls is int:  # the common case costs two identity tests
+        number = cast(float, value)
+    elif isinstance(value, numbers.Real) and not isinstance(value, bool):
+        number = float(value)  # e.g. np.float64, np.int32
+    else:
+        return safe, True
+    if not math.isfinite(number):
         return safe, True
     # dividing by a power of ten gives the float nearest to the decimal, so equality tests are exact
-    quantised = round(value * steps_per_unit) / steps_per_unit
+    quantised = round(number * steps_per_unit) / steps_per_unit
     if not limits[0] <= quantised <= limits[1]:
         return safe, True
     return quantised, False
 
 
-def gate(mode: object, throttle_limit_pct: float, decel_request_mps2: float) -> GatedOutputs:
+def gate(mode: object, throttle_limit_pct: object, decel_request_mps2: object) -> GatedOutputs:
     """Check and quantise one cycle's outputs; count every replaced value."""
     throttle, bad_throttle = _checked(throttle_limit_pct, THROTTLE_RANGE_PCT,
                                       _THROTTLE_STEPS_PER_PCT, SAFE_THROTTLE_PCT)
     decel, bad_decel = _checked(decel_request_mps2, DECEL_RANGE_MPS2,
                                 _DECEL_STEPS_PER_MPS2, SAFE_DECEL_MPS2)
     bad_mode = mode.__class__ is not Mode
-    safe_mode = Mode.FAULT if bad_mode else mode
+    safe_mode = _FAULT if bad_mode else cast(Mode, mode)
     if bad_throttle or bad_decel or bad_mode:
         # Any doubt about this cycle's decision withdraws throttle authority altogether.
-        safe_mode = Mode.FAULT
+        safe_mode = _FAULT
         throttle = SAFE_THROTTLE_PCT
     pass_through = throttle == PASS_THROUGH_THROTTLE_PCT and decel == PASS_THROUGH_DECEL_MPS2
     return GatedOutputs(safe_mode, not pass_through, throttle, decel, bad_throttle + bad_decel + bad_mode)

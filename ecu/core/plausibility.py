@@ -64,6 +64,9 @@ from .types import CYCLES_MAX, RECEIVER_FLAGS, CoreInputs, CoreState, FaultFlag
 from .validity import AGE_TOLERANCE_S
 
 
+_WHEEL_SLIP, _PEDALS, _CLOCK = (1 << FaultFlag[name] for name in ("WHEEL_SLIP", "PEDALS", "CLOCK"))
+
+
 class Health(NamedTuple):
     """What :func:`input_health` finds: the flags, which inputs may be used, and the state it carries."""
 
@@ -107,13 +110,13 @@ def input_health(state: CoreState, inputs: CoreInputs, params: CoreParams) -> He
     slip, lead = wheel_spread(state, inputs.wheel_speeds_mps, wheels_braked(state, inputs, params), driving,
                              params)
     if slip:
-        flags |= 1 << FaultFlag.WHEEL_SLIP
+        flags |= _WHEEL_SLIP
     limit = params.pedal_conflict_fraction
     pedals = inputs.accel_pedal > limit and inputs.brake_pedal > limit
     if pedals:
-        flags |= 1 << FaultFlag.PEDALS
+        flags |= _PEDALS
     late = inputs.t_s + AGE_TOLERANCE_S  # stamped after this cycle: the clock went backwards
     if inputs.wheel_rx_t_s > late or inputs.driver_rx_t_s > late or inputs.object_rx_t_s > late:
-        flags |= 1 << FaultFlag.CLOCK
+        flags |= _CLOCK
     return Health(flags, not (slip or inputs.wheel_rx_flags & RECEIVER_FLAGS),
                   not (pedals or inputs.driver_rx_flags & RECEIVER_FLAGS), since_drive, lead)

@@ -41,6 +41,8 @@ from __future__ import annotations
 from .params import NON_DRIVEN_WHEELS, CoreParams
 from .types import CYCLES_MAX, CoreInputs, CoreState, Mode
 
+_CONTINGENCY = Mode["CONTINGENCY"]
+
 
 def update_speed_mps(
     previous_mps: float,
@@ -102,7 +104,7 @@ def next_speed(state: CoreState, inputs: CoreInputs, wheels_usable: bool,
     since_brake = 0 if brake_commanded(state, inputs) else min(state.cycles_since_brake + 1, CYCLES_MAX)
     if not wheels_usable:
         speed = state.speed_mps
-        if state.held_contingency or state.mode == Mode.CONTINGENCY:
+        if state.held_contingency or state.mode == _CONTINGENCY:
             decel = params.strategy_rules.model_decel_mps2(state.decel, params)
             speed = coast_down_speed_mps(speed, decel, params.cycle_s)
         return speed, state.speed_initialised, state.prev_free_wheel_mean_mps, since_brake

@@ -40,7 +40,7 @@ from .track_confirmation import confirmed, next_track
 from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag
 from .validity import input_validity
 
-_SPEED_RADAR, _INTERNAL = 1 << FaultFlag.SPEED_RADAR, 1 << FaultFlag.INTERNAL
+_SPEED_RADAR, _INTERNAL = (1 << FaultFlag[name] for name in ("SPEED_RADAR", "INTERNAL"))
 
 
 def _checked_speed(state: CoreState, inputs: CoreInputs, relevant: bool,

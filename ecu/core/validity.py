@@ -21,6 +21,9 @@ import math
 from .params import CoreParams
 from .types import CoreInputs, FaultFlag
 
+_WHEEL_SPEED_TIMEOUT, _DRIVER_INPUT_TIMEOUT, _OBJECT_TIMEOUT, _E2E, _INTERNAL = (
+    1 << FaultFlag[name] for name in ("WHEEL_SPEED_TIMEOUT", "DRIVER_INPUT_TIMEOUT", "OBJECT_TIMEOUT", "E2E", "INTERNAL"))
+
 #: tolerance on age comparisons, so t = k * 0.01 rounding never flips a timeout.
 AGE_TOLERANCE_S = 1e-6
 
@@ -37,14 +40,14 @@ def input_validity(inputs: CoreInputs, params: CoreParams) -> tuple[int, bool]:
     flags = 0
     wheels_late = _timed_out(t, inputs.wheel_rx_t_s, params.wheel_speeds_timeout_s)
     if wheels_late:
-        flags |= 1 << FaultFlag.WHEEL_SPEED_TIMEOUT
+        flags |= _WHEEL_SPEED_TIMEOUT
     if _timed_out(t, inputs.driver_rx_t_s, params.driver_input_timeout_s):
-        flags |= 1 << FaultFlag.DRIVER_INPUT_TIMEOUT
+        flags |= _DRIVER_INPUT_TIMEOUT
     if _timed_out(t, inputs.object_rx_t_s, params.object_timeout_s):
-        flags |= 1 << FaultFlag.OBJECT_TIMEOUT
+        flags |= _OBJECT_TIMEOUT
     limit = params.e2e_invalid_score
     if max(inputs.wheel_e2e_score, inputs.driver_e2e_score, inputs.object_e2e_score) >= limit:
-        flags |= 1 << FaultFlag.E2E
+        flags |= _E2E
     # non-finite or impossible values: one sum is finite iff every term is (NaN and inf propagate;
     # our magnitudes cannot overflow), and then the ranges
     wheels = inputs.wheel_speeds_mps
@@ -52,7 +55,7 @@ def input_validity(inputs: CoreInputs, params: CoreParams) -> tuple[int, bool]:
                           + inputs.object_range_rate_mps + t)
             or min(wheels) < 0.0 or inputs.object_range_m < 0.0
             or not (0.0 <= inputs.accel_pedal <= 1.0 and 0.0 <= inputs.brake_pedal <= 1.0)):
-        flags |= 1 << FaultFlag.INTERNAL
+        flags |= _INTERNAL
     wheels_valid = (not wheels_late and inputs.wheel_e2e_score < limit
                     # a finite sum proves every term finite; one that overflowed is tested term by term
                     and (math.isfinite(sum(wheels)) or all(math.isfinite(v) for v in wheels))
