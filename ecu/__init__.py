@@ -17,6 +17,10 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
+from . import compiled_core
+
+compiled_core.check()  # a compiled ECU core older than its sources would run old code
+
 #: public name -> submodule that defines it
 _EXPORTS = {
     "ECU_CYCLE_S": "config",

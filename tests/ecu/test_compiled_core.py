@@ -1,0 +1,27 @@
+"""A compiled core module older than its source is refused, naming it and the fix (ecu/compiled_core.py)."""
+
+import os
+
+import pytest
+
+from ecu import compiled_core
+
+
+def _touch(path, mtime):
+    path.write_text("")
+    os.utime(path, (mtime, mtime))
+
+
+def test_a_source_newer_than_its_compiled_module_is_refused_with_its_name(tmp_path):
+    _touch(tmp_path / "plan.cpython-311-x86_64-linux-gnu.so", 1000.0)
+    _touch(tmp_path / "plan.py", 1000.0 + compiled_core.TOLERANCE_S + 1.0)
+    _touch(tmp_path / "step.cpython-311-x86_64-linux-gnu.so", 1000.0)
+    _touch(tmp_path / "step.py", 1000.0 + compiled_core.TOLERANCE_S / 2)  # written by the same install
+    _touch(tmp_path / "_compiled__mypyc.cpython-311-x86_64-linux-gnu.so", 1.0)  # the group's runtime: no source
+    assert compiled_core.stale_modules(str(tmp_path)) == ["plan"]
+    with pytest.raises(ImportError, match=r"^ecu/core/plan\.py: newer than the compiled core .*pip install -e \."):
+        compiled_core.check(str(tmp_path))
+
+
+def test_the_installed_core_is_not_stale():
+    assert compiled_core.stale_modules() == []
