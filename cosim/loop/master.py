@@ -128,7 +128,7 @@ class ClosedLoop:
         self.n_sub = int(round(ECU_CYCLE_S / self.h_s))
         self.n_track = int(round(OBJECT_TRACK_PERIOD_S / ECU_CYCLE_S))
         self._world(scenario)
-        self.driver = make_driver(scenario.driver)
+        self.driver = make_driver(scenario.driver, scenario.scenario.seed)
         self.radar = RadarModel(scenario.radar, default_rng(scenario.scenario.seed))
         self.ecu = ecu if ecu is not None else EcuOptions()
         key = run_key(self.ecu, self._ecu_cfg)  # SecOC: None means E2E protection only

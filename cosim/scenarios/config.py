@@ -171,7 +171,7 @@ class DriverConfig:
     read it. Equations: :mod:`cosim.world.driver_models`.
     """
 
-    model: str = setting("full_throttle", allowed=("full_throttle", "cruise", "scripted", "hold_speed"),
+    model: str = setting("full_throttle", allowed=("full_throttle", "cruise", "scripted", "hold_speed", "reacting"),
                          doc="the driver model (see Driver models)")
     accel_pedal_pct: float = setting(100.0, unit="%", allowed=Range(0.0, 100.0),
                                      doc="full_throttle: the accelerator pedal, held whatever happens")
@@ -183,6 +183,15 @@ class DriverConfig:
     release_drop_mps: float = setting(0.0, unit="m/s", allowed=Range(0.0, 80.0),
                                       doc="hold_speed: release the accelerator for good once the speed is this "
                                           "far below the set speed (Euro NCAP robot: 5 km/h); 0 = never")
+    reaction_time_min_s: float = setting(0.70, unit="s", allowed=Range(0.0, 10.0),
+                                         doc="reacting: the shortest reaction time drawn (Green 2000: a fully "
+                                             "expected signal, 0.70-0.75 s)")
+    reaction_time_max_s: float = setting(1.5, unit="s", allowed=Range(0.0, 10.0),
+                                         doc="reacting: the longest reaction time drawn (Green 2000: a surprise, "
+                                             "about 1.5 s)")
+    felt_decel_mps2: float = setting(1.5, unit="m/s^2", allowed=Range(0.1, 20.0),
+                                     doc="reacting: a deceleration the driver feels as the car braking by itself "
+                                         "while the accelerator is down (crd's choice: above any coast-down)")
     over: str = setting("time", allowed=("time", "position"),
                         doc="scripted: the breakpoints' abscissa, time (s) or position (m)")
     points: tuple[tuple[float, float, float], ...] = setting(

@@ -112,6 +112,10 @@ def scenario_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) ->
                                               f"got {scenario.scenario.step_s!r}")
     scenario = dataclasses.replace(scenario, plant=plant)
     _check_equipment(scenario, data.get("ecu", {}))
+    if scenario.driver.reaction_time_min_s > scenario.driver.reaction_time_max_s:
+        raise SettingError("driver.reaction_time_min_s", f"expected at most driver.reaction_time_max_s "
+                                                         f"({scenario.driver.reaction_time_max_s}), got "
+                                                         f"{scenario.driver.reaction_time_min_s}")
     return scenario
 
 

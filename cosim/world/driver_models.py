@@ -8,6 +8,7 @@ The wheel is the steering model's (:mod:`cosim.world.steering_models`).
 
 from __future__ import annotations
 
+import random
 from dataclasses import dataclass
 from typing import Callable
 
@@ -101,14 +102,52 @@ def scripted(cfg: DriverConfig) -> DriverModel:
     return model
 
 
-DRIVER_MODELS: dict[str, Callable[[DriverConfig], DriverModel]] = {
+def reacting(cfg: DriverConfig, seed: int = 0) -> DriverModel:
+    """The paper's full-throttle driver, with a human's reaction time: he lifts off when he feels the
+    car brake by itself, and presses the accelerator again once it has stopped braking.
+
+    He holds ``accel_pedal_pct`` until the car decelerates harder than ``felt_decel_mps2`` (the
+    deceleration over the last ECU cycle, from the speed he sees); one reaction time later he lifts
+    off (a reaction once begun is carried out). Once the car no longer decelerates that hard, he
+    presses again one reaction time later (if it brakes again meanwhile, he waits for it to end). Each reaction time is drawn uniformly from
+    ``reaction_time_min_s`` to ``reaction_time_max_s`` (Green 2000, "How long does it take to stop?",
+    Transportation Human Factors 2(3): 0.70-0.75 s for a fully expected signal, about 1.25 s for an
+    unexpected but common one, about 1.5 s for a surprise), by a generator seeded with
+    ``[scenario] seed``. Called once per ECU cycle, in order.
+    """
+    rng = random.Random(f"reacting driver/{seed}")
+    state = {"v_mps": None, "pressed": True, "due_s": None}
+    pressing, lifted = Pedals(cfg.accel_pedal_pct, 0.0), Pedals(0.0, 0.0)
+
+    def model(t_s: float, position_m: float, speed_mps: float) -> Pedals:
+        previous, state["v_mps"] = state["v_mps"], speed_mps
+        braking = previous is not None and (previous - speed_mps) / ECU_CYCLE_S > cfg.felt_decel_mps2
+        if braking != (not state["pressed"]):  # what he does and what he feels disagree: he will react
+            if state["due_s"] is None:
+                state["due_s"] = t_s + rng.uniform(cfg.reaction_time_min_s, cfg.reaction_time_max_s)
+        elif not state["pressed"]:
+            state["due_s"] = None  # lifted, and it brakes again: he waits for it to end
+        if state["due_s"] is not None and t_s >= state["due_s"]:
+            state["pressed"], state["due_s"] = not state["pressed"], None
+        return pressing if state["pressed"] else lifted
+
+    return model
+
+
+DRIVER_MODELS: dict[str, Callable[..., DriverModel]] = {
     "full_throttle": full_throttle,
     "cruise": cruise,
     "scripted": scripted,
     "hold_speed": hold_speed,
+    "reacting": reacting,
 }
 
 
-def make_driver(cfg: DriverConfig) -> DriverModel:
-    """The driver model named by ``cfg.model``."""
-    return DRIVER_MODELS[cfg.model](cfg)
+def make_driver(cfg: DriverConfig, seed: int = 0) -> DriverModel:
+    """The driver model named by ``cfg.model``; a model that draws at random is seeded with ``seed``."""
+    factory = DRIVER_MODELS[cfg.model]
+    return factory(cfg, seed) if factory in SEEDED else factory(cfg)
+
+
+#: the models that draw at random: they take the run's seed
+SEEDED = frozenset({reacting})
