@@ -3,8 +3,8 @@
 One cycle (:meth:`EcuNode.step`): drain every frame received since the last
 cycle through the E2E receiver (bad frames are counted and ignored; a fresh
 frame's receive time is the cycle time ``t_s``, so the same frames at the same
-cycle times give the same outputs), run the core, send ``SafetyOverride`` and,
-every ``status_period_cycles``-th cycle, ``EcuStatus``.
+cycle times give the same outputs), run the core, send ``SafetyOverride`` and
+``SteeringOverride`` and, every ``status_period_cycles``-th cycle, ``EcuStatus`` and ``EcuRegionStatus``.
 
 Scheduling is separate (:mod:`ecu.scheduler`): lock-step by calling
 ``step(t_s)``, real time on the wall clock, or sim time paced by ``SimClock``
@@ -37,6 +37,7 @@ malfunction rule) and ``CLOCK`` (a ``SimClock`` that does not advance by
 from __future__ import annotations
 
 import logging
+import math
 import threading
 from collections import Counter
 
@@ -45,7 +46,8 @@ import can
 from can_dbc import (AUTHENTICATORS, ECU_CYCLE_S, LAYOUTS, CounterSequence, Frame, Receiver, SecOcSender,
                      SecOcVerifier, cycle_time_s, encode, load_key_file)
 
-from .bus_port import INPUT_MESSAGES, SIM_CLOCK, InputLatch, override_message, status_message, steering_message
+from .bus_port import (INPUT_MESSAGES, SIM_CLOCK, InputLatch, override_message, region_message, status_message,
+                       steering_message)
 from .config import STATUS_PERIOD_CYCLES, EcuConfig
 from .config_digest import identity_signals
 from .core import CoreOutputs, CoreState, FaultFlag, Mode, step as core_step
@@ -90,6 +92,7 @@ class EcuNode:
         self._next_override = CounterSequence().next
         self._next_steering = CounterSequence().next
         self._next_status = CounterSequence().next
+        self._next_region = CounterSequence().next
         self._cycle_index = 0
         self._pending: dict[str, Frame] = {}  # sim time: the latest checked frame of each message
         self.outputs: CoreOutputs | None = None
@@ -236,11 +239,14 @@ class EcuNode:
             self._errors["internal_errors"] += 1
             outputs = self._internal_fault()
         self.outputs = outputs
-        for request in (override_message(outputs, self._next_override()), steering_message(self._next_steering())):
+        for request in (override_message(outputs, self._next_override()),
+                        steering_message(outputs, self._next_steering())):
             self._send(request)
             if self._signer is not None:
                 self._send(self._signer.authenticator(request))
         if self._cycle_index % self.config.status_period_cycles == 0:
+            # the region's status first: a lock-step master that waits for EcuStatus then has both
+            self._send(region_message(outputs, self._next_region()))
             self._send(status_message(outputs, self.config.strategy_code, self._next_status()))
             if self._identity is not None and self._cycle_index % IDENTITY_PERIOD_CYCLES == 0:
                 self.announce()
@@ -252,7 +258,8 @@ class EcuNode:
         braking = state.held_contingency or state.mode == Mode.CONTINGENCY
         decel = self.config.contingency_decel_mps2 if braking else 0.0
         self._state = state._replace(mode=Mode.FAULT, valid_cycles=0, held_contingency=braking,
-                              prev_decel_request_mps2=decel)
+                                     prev_decel_request_mps2=decel, steer_curvature_1pm=math.nan,
+                                     steer_request_rad=0.0)
         return CoreOutputs(
             mode=Mode.FAULT, override_active=True, throttle_limit_pct=0.0,
             brake_decel_request_mps2=decel, fault_flags=1 << FaultFlag.INTERNAL,

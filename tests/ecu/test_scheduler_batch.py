@@ -23,17 +23,18 @@ def test_each_sim_time_cycle_sends_its_frames_in_one_write(tmp_path, monkeypatch
         thread = threading.Thread(target=node.run, args=(stop,))
         thread.start()
         try:
-            rx, ids = Receiver(names=["SafetyOverride", "SteeringOverride", "EcuStatus"]), []
+            rx, ids = Receiver(names=["SafetyOverride", "SteeringOverride", "EcuStatus", "EcuRegionStatus"]), []
             for k in range(20):
                 for msg in [*_inputs(k), encode("SimClock", {"SimTimeMs": 10 * k}, counter=k % 15)]:
                     tester.send(msg)
-                while len(ids) < 2 * (k + 1) + (k // 10 + 1):  # this cycle's two requests (and EcuStatus)
+                while len(ids) < 2 * (k + 1) + 2 * (k // 10 + 1):  # this cycle's two requests (and the statuses)
                     msg = tester.recv(timeout=5.0)
                     ids.append(rx.check(msg).name)
         finally:
             stop.set()
             thread.join(5.0)
     assert node.cycles == 20 and ids.count("SafetyOverride") == ids.count("SteeringOverride") == 20
-    assert ids.count("EcuStatus") == 2
-    # one write a cycle of 24-byte records: SafetyOverride and SteeringOverride, EcuStatus every 10th cycle
-    assert writes == [72] + [48] * 9 + [72] + [48] * 9
+    assert ids.count("EcuStatus") == ids.count("EcuRegionStatus") == 2
+    # one write a cycle of 24-byte records: SafetyOverride and SteeringOverride, EcuRegionStatus and EcuStatus
+    # every 10th cycle
+    assert writes == [96] + [48] * 9 + [96] + [48] * 9

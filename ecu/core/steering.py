@@ -1,0 +1,83 @@
+"""The steering contingency's request (issue 22, item 3): ``SteeringOverride``'s road-wheel angle overlay.
+
+Only with ``steering_authority`` (the EPS applies our overlay); without it nothing is requested and
+the region's decision has no steering rows (:func:`ecu.core.region.decide`, ``steer=False``).
+
+* **Latch**: in ``CONTINGENCY``, the first cycle whose region decision chose a steering row
+  (``STEER_AND_BRAKE``, or ``LEAST_IMPACT`` on a steering row) latches that path's curvature,
+  clamped into the joint bounds tightened at the decision's proximity
+  (:func:`ecu.core.region.tightened_bounds`; at proximity 1 the contingency's own). It is held while
+  the mode stays ``CONTINGENCY``: re-deciding from a pose that already turns would re-centre the
+  assumed lane (:func:`ecu.core.planar.assumed_road`) on the ego. Any other mode drops it.
+* **Target**: the overlay that makes the road-wheel angle ``atan(kappa L)`` on top of the driver's,
+  ``atan(kappa L) - delta_driver``, within the DBC's range of ``SteerAngleRequest``; 0 unlatched.
+* **Rate**: the request moves toward the target by at most ``steer_rate_max_radps`` (0.4 rad/s,
+  below the 23 deg/s ``SigMaxRate`` the EPS enforces) per second of cycle, back to 0 the same way;
+  ``SteerActive`` while a path is latched or the request is not yet back at 0.
+* **Braking** while steering: what the friction circle leaves, ``min(C, sqrt(A^2 - (v^2 kappa)^2))``,
+  ``A`` the model deceleration D (:func:`ecu.core.region.decision.contingency_decel_mps2`'s rule).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+from can_dbc.contract import signal_range
+from can_dbc.units import dbc_per_si
+
+from .params import CoreParams
+from .planar import RegionCycle
+from .region import tightened_bounds
+from .types import CoreState, Mode
+
+_DEG_PER_RAD = dbc_per_si("deg")
+#: the DBC's range of SteerAngleRequest (rad)
+REQUEST_RANGE_RAD = tuple(v / _DEG_PER_RAD for v in signal_range("SteeringOverride", "SteerAngleRequest"))
+
+
+class Steering(NamedTuple):
+    """The cycle's steering: the latched curvature (NaN: none), the overlay request (rad), SteerActive, and the
+    deceleration the friction circle leaves beside the turn (inf: no limit)."""
+
+    curvature_1pm: float
+    request_rad: float
+    active: bool
+    decel_mps2: float
+
+
+NO_STEERING = Steering(math.nan, 0.0, False, math.inf)
+
+
+def latched_curvature(state: CoreState, mode: Mode, region: RegionCycle | None, params: CoreParams) -> float:
+    """The held steering path's curvature (module docstring, Latch); NaN for none."""
+    if mode is not Mode.CONTINGENCY:
+        return math.nan
+    held = state.steer_curvature_1pm
+    if not math.isnan(held) or region is None or not region.decision.steering:
+        return held
+    bounds = tightened_bounds(region.ego, region.decision, params.region)
+    return min(bounds.curvature_hi_1pm, max(bounds.curvature_lo_1pm, region.decision.curvature_1pm))
+
+
+def _toward(previous: float, target: float, step: float) -> float:
+    return previous + min(step, max(-step, target - previous))
+
+
+def steering(state: CoreState, mode: Mode, region: RegionCycle | None, inputs_wheel_rad: float,
+             speed_mps: float, decel_mps2: float, params: CoreParams) -> Steering:
+    """This cycle's request (module docstring); ``inputs_wheel_rad``: the driver's steering-wheel angle."""
+    if not params.steering_authority:
+        return NO_STEERING
+    kappa = latched_curvature(state, mode, region, params)
+    rp = params.region
+    target = 0.0
+    if not math.isnan(kappa):
+        target = math.atan(kappa * rp.wheelbase_m) - inputs_wheel_rad / params.steering_ratio
+        target = min(REQUEST_RANGE_RAD[1], max(REQUEST_RANGE_RAD[0], target))
+    request = _toward(state.steer_request_rad, target, rp.steer_rate_max_radps * params.cycle_s)
+    decel = math.inf
+    if not math.isnan(kappa):
+        lateral = speed_mps * speed_mps * abs(kappa)
+        decel = math.sqrt(max(0.0, decel_mps2 * decel_mps2 - lateral * lateral))
+    return Steering(kappa, request, not math.isnan(kappa) or request != 0.0, decel)
