@@ -82,7 +82,7 @@ from ..world.scene_contact import ContactWatch, Hit
 from ..world.steering_models import make_steering
 from ..results.run_record import pose_cells, timeseries_columns
 from .phase_timer import PHASES, PhaseTimer, instrument
-from .planar_frames import PlanarFrames, tracks_2d, tracks_of
+from .planar_frames import PlanarFrames, RegionCells, tracks_2d, tracks_of
 
 log = logging.getLogger(__name__)
 
@@ -93,10 +93,15 @@ Progress = Callable[[float, float], None]
 
 
 def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
-    """The scenario's ``[ecu]`` (an :class:`ecu.EcuConfig`, checked at load), ``strategy`` in place of its own."""
-    if strategy is None or strategy == scenario.ecu.strategy:
-        return scenario.ecu
-    return dataclasses.replace(scenario.ecu, strategy=strategy)
+    """The scenario's ``[ecu]`` (an :class:`ecu.EcuConfig`, checked at load), ``strategy`` in place of its own, and
+    steering authority granted when the run's plant takes the ECU's steering (``[plant.inputs] steer_request``: a
+    planar scenario with the builtin plant, or a plant that maps it)."""
+    changes: dict[str, object] = {}
+    if strategy is not None and strategy != scenario.ecu.strategy:
+        changes["strategy"] = strategy
+    if scenario.plant.input_map("steer_request") is not None and not scenario.ecu.steering_authority:
+        changes["steering_authority"] = True
+    return dataclasses.replace(scenario.ecu, **changes) if changes else scenario.ecu
 
 
 class _Outgoing:
@@ -138,6 +143,7 @@ class ClosedLoop:
                                                 lockstep=not self.ecu.realtime)
         self._overlay_rad = self._overlay_next_rad = 0.0  # its steer_request: this cycle's, the next one's
         self._planar = PlanarFrames()
+        self._region = RegionCells()
         self.record = RunRecord(self.strategy, RunMetrics(self.strategy), columns=timeseries_columns(scenario))
         # bound once: next() of each message's E2E counter (C-level), called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
@@ -249,6 +255,7 @@ class ClosedLoop:
                self.gateway.mode, gap_m, pedals.accel_pct, pedals.brake_pct)
         if self.planar:
             row += pose_cells(out.ego, applied.steering_wheel_angle_rad, self.scene, t_s)
+            row += (*self._region.cells(received), self._overlay_rad)
         self.record.rows.append(row)
         # the metrics' running extremes here, where the row is built (once a cycle, after the ECU's
         # frames), not in a call of their own that read the row back (0.39 instead of 0.44-0.52 µs, timeit)

@@ -107,10 +107,11 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     return RegionCycle(ego, decision, off_axis)
 
 
-def merged(plan: Plan, region: RegionCycle | None) -> Plan:
+def merged(plan: Plan, region: RegionCycle | None, steering_held: bool) -> Plan:
     """The 1-D plan with the region's addition: not disjoint (nor released) while an off-axis object's region
-    reaches the driver's stopping path."""
-    if region is None or region.off_axis_disjoint:
+    reaches the driver's stopping path, or while a steering contingency is held (``steering_held``: it brakes to
+    a stop along its path, :mod:`ecu.core.steering`)."""
+    if not steering_held and (region is None or region.off_axis_disjoint):
         return plan
     return plan._replace(disjoint=False, released=False)
 

@@ -6,11 +6,18 @@ the region's decision has no steering rows (:func:`ecu.core.region.decide`, ``st
 * **Latch**: in ``CONTINGENCY``, the first cycle whose region decision chose a steering row
   (``STEER_AND_BRAKE``, or ``LEAST_IMPACT`` on a steering row) latches that path's curvature,
   clamped into the joint bounds tightened at the decision's proximity
-  (:func:`ecu.core.region.tightened_bounds`; at proximity 1 the contingency's own). It is held while
-  the mode stays ``CONTINGENCY``: re-deciding from a pose that already turns would re-centre the
-  assumed lane (:func:`ecu.core.planar.assumed_road`) on the ego. Any other mode drops it.
+  (:func:`ecu.core.region.tightened_bounds`; at proximity 1 the contingency's own). It is not
+  re-decided: from a pose that already turns the assumed lane (:func:`ecu.core.planar.assumed_road`)
+  would be re-centred on the ego, and the rows' curvatures ``a_j / v^2`` grow as the car slows (measured:
+  re-deciding every cycle wound the curvature up and left the road).
+  The contingency is the stop along that path: while a path is latched and the car moves, the
+  plan is held not released (:func:`steering_held`, :func:`ecu.core.planar.merged`), so the mode
+  stays ``CONTINGENCY`` to standstill. Any other mode (a fault) drops it.
 * **Target**: the overlay that makes the road-wheel angle ``atan(kappa L)`` on top of the driver's,
-  ``atan(kappa L) - delta_driver``, within the DBC's range of ``SteerAngleRequest``; 0 unlatched.
+  corrected by the curvature the car actually follows (``kappa_m`` = yaw rate / speed above 1 m/s):
+  ``atan(kappa L) + atan((kappa - kappa_m) L) - delta_driver``, within the DBC's range of
+  ``SteerAngleRequest``; 0 unlatched. Without the correction the braking car oversteered into a spin
+  (measured: yaw rate three times the commanded curvature's under full braking).
 * **Rate**: the request moves toward the target by at most ``steer_rate_max_radps`` (0.4 rad/s,
   below the 23 deg/s ``SigMaxRate`` the EPS enforces) per second of cycle, back to 0 the same way;
   ``SteerActive`` while a path is latched or the request is not yet back at 0.
@@ -60,12 +67,17 @@ def latched_curvature(state: CoreState, mode: Mode, region: RegionCycle | None, 
     return min(bounds.curvature_hi_1pm, max(bounds.curvature_lo_1pm, region.decision.curvature_1pm))
 
 
+def steering_held(state: CoreState, speed_mps: float, params: CoreParams) -> bool:
+    """A steering path is latched and the car has not stopped yet (module docstring, Latch)."""
+    return not math.isnan(state.steer_curvature_1pm) and speed_mps > params.standstill_speed_mps
+
+
 def _toward(previous: float, target: float, step: float) -> float:
     return previous + min(step, max(-step, target - previous))
 
 
 def steering(state: CoreState, mode: Mode, region: RegionCycle | None, inputs_wheel_rad: float,
-             speed_mps: float, decel_mps2: float, params: CoreParams) -> Steering:
+             yaw_rate_radps: float, speed_mps: float, decel_mps2: float, params: CoreParams) -> Steering:
     """This cycle's request (module docstring); ``inputs_wheel_rad``: the driver's steering-wheel angle."""
     if not params.steering_authority:
         return NO_STEERING
@@ -73,7 +85,9 @@ def steering(state: CoreState, mode: Mode, region: RegionCycle | None, inputs_wh
     rp = params.region
     target = 0.0
     if not math.isnan(kappa):
-        target = math.atan(kappa * rp.wheelbase_m) - inputs_wheel_rad / params.steering_ratio
+        measured = yaw_rate_radps / speed_mps if speed_mps > rp.yaw_rate_min_speed_mps else kappa
+        road_wheel = math.atan(kappa * rp.wheelbase_m) + math.atan((kappa - measured) * rp.wheelbase_m)
+        target = road_wheel - inputs_wheel_rad / params.steering_ratio
         target = min(REQUEST_RANGE_RAD[1], max(REQUEST_RANGE_RAD[0], target))
     request = _toward(state.steer_request_rad, target, rp.steer_rate_max_radps * params.cycle_s)
     decel = math.inf

@@ -39,7 +39,7 @@ from .planar import merged, region_cycle, report
 from .plausibility import Health, input_health, speed_radar_implausible
 from .relevance import in_path
 from .speed_estimate import next_speed
-from .steering import REQUEST_RANGE_RAD, steering
+from .steering import REQUEST_RANGE_RAD, steering, steering_held
 from .track_confirmation import confirmed, next_track
 from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag
 from .validity import input_validity
@@ -75,14 +75,15 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     estimate, decel_mps2 = params.strategy_rules.cycle_decel(state, inputs, speed, wheels_ok, params)
     cycle_plan = plan(speed, inputs, relevant, decel_mps2, params)
     region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params) if inputs.tracks else None
-    cycle_plan = merged(cycle_plan, region)
+    cycle_plan = merged(cycle_plan, region, steering_held(state, speed, params))
     # standstill only matters while faulted (a held contingency ends there)
     stopped = bool(fault) and release_speed_mps(speed, wheels_ok, inputs, params) <= params.standstill_speed_mps
     mode, valid_cycles, held, throttle, decel = decide(state, cycle_plan, fault, stopped, params)
     if (fault and decel < params.contingency_decel_mps2 and confirmed_track
             and degraded_brake(speed, wheels_ok, driver_ok, inputs, params)):
         decel = params.contingency_decel_mps2  # degraded mode (ecu.core.degraded)
-    steer = steering(state, mode, region, inputs.steering_wheel_rad, speed, decel_mps2, params)
+    steer = steering(state, mode, region, inputs.steering_wheel_rad, inputs.yaw_rate_radps, speed, decel_mps2,
+                     params)
     gated = gate(mode, throttle, min(decel, steer.decel_mps2))
     steer_active, steer_rad, steer_bad = gate_steering(steer.active, steer.request_rad, REQUEST_RANGE_RAD)
     interventions = gated.interventions + steer_bad
