@@ -1,6 +1,6 @@
 """The ECU and the planar frames: it receives, checks and counts EscDynamics and the
-RadarTrack slots (latching them in SI; the core does not use them yet), and sends
-SteeringOverride pass-through (SteerActive 0) every cycle, authenticated when keyed."""
+RadarTrack slots (latching them in SI for the stopping region, ecu.core.planar), and sends
+SteeringOverride every cycle (pass-through, SteerActive 0, without steering authority), authenticated when keyed."""
 
 import math
 import uuid
