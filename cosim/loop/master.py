@@ -48,7 +48,6 @@ Events from the link, the gateway and the loop are merged rate-limited
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import math
 import time
@@ -59,7 +58,6 @@ from numpy.random import default_rng  # here, not at the first run: each forked 
 
 from can_dbc import ECU_CYCLE_S, CounterSequence, SecOcSender, encode, signal_layout
 from can_dbc.units import KMH_PER_MPS
-from ecu import EcuConfig
 
 from ..errors import EcuStallError, FmiStepError, interrupt_signal, signal_name
 from ..link.ecu_link import EcuOptions, open_link, run_key
@@ -81,6 +79,7 @@ from ..world.scene_build import build_objects, build_road
 from ..world.scene_contact import ContactWatch, Hit
 from ..world.steering_models import make_steering
 from ..results.run_record import pose_cells, timeseries_columns
+from .ecu_config import ecu_config
 from .phase_timer import PHASES, PhaseTimer, instrument
 from .planar_frames import PlanarFrames, RegionCells, tracks_2d, tracks_of
 
@@ -90,18 +89,6 @@ _WHEEL_MAX_KMH = signal_layout("WheelSpeeds", "WheelSpeedFL").maximum
 __all__ = ["PHASES", "ClosedLoop", "ecu_config", "run_scenario"]
 
 Progress = Callable[[float, float], None]
-
-
-def ecu_config(scenario: Scenario, strategy: str | None = None) -> EcuConfig:
-    """The scenario's ``[ecu]`` (an :class:`ecu.EcuConfig`, checked at load), ``strategy`` in place of its own, and
-    steering authority granted when the run's plant takes the ECU's steering (``[plant.inputs] steer_request``: a
-    planar scenario with the builtin plant, or a plant that maps it)."""
-    changes: dict[str, object] = {}
-    if strategy is not None and strategy != scenario.ecu.strategy:
-        changes["strategy"] = strategy
-    if scenario.plant.input_map("steer_request") is not None and not scenario.ecu.steering_authority:
-        changes["steering_authority"] = True
-    return dataclasses.replace(scenario.ecu, **changes) if changes else scenario.ecu
 
 
 class _Outgoing:

@@ -3,8 +3,8 @@
 Only with ``steering_authority`` (the EPS applies our overlay); without it nothing is requested and
 the region's decision has no steering rows (:func:`ecu.core.region.decide`, ``steer=False``).
 
-* **Latch**: in ``CONTINGENCY``, the first cycle whose region decision chose a steering row
-  (``STEER_AND_BRAKE``, or ``LEAST_IMPACT`` on a steering row) latches that path's curvature,
+* **Latch**: in ``CONTINGENCY``, the first cycle whose region decision is ``STEER_AND_BRAKE`` (a steering
+  path whose stopping path is disjoint) latches that path's curvature,
   clamped into the joint bounds tightened at the decision's proximity
   (:func:`ecu.core.region.tightened_bounds`; at proximity 1 the contingency's own). It is not
   re-decided: from a pose that already turns the assumed lane (:func:`ecu.core.planar.assumed_road`)
@@ -13,6 +13,9 @@ the region's decision has no steering rows (:func:`ecu.core.region.decide`, ``st
   The contingency is the stop along that path: while a path is latched and the car moves, the
   plan is held not released (:func:`steering_held`, :func:`ecu.core.planar.merged`), so the mode
   stays ``CONTINGENCY`` to standstill. Any other mode (a fault) drops it.
+  ``LEAST_IMPACT`` on a steering row is reported but not steered: its ranking assumes the others stop
+  within their regions, and a crossing pedestrian who walks on was steered into (measured, ncap_vru: 41
+  cells lost their band with it); the contingency then brakes in lane at full.
 * **Target**: the overlay that makes the road-wheel angle ``atan(kappa L)`` on top of the driver's,
   corrected by the curvature the car actually follows (``kappa_m`` = yaw rate / speed above 1 m/s):
   ``atan(kappa L) + atan((kappa - kappa_m) L) - delta_driver``, within the DBC's range of
@@ -35,7 +38,7 @@ from can_dbc.units import dbc_per_si
 
 from .params import CoreParams
 from .planar import RegionCycle
-from .region import tightened_bounds
+from .region import Contingency, tightened_bounds
 from .types import CoreState, Mode
 
 _DEG_PER_RAD = dbc_per_si("deg")
@@ -61,7 +64,7 @@ def latched_curvature(state: CoreState, mode: Mode, region: RegionCycle | None, 
     if mode is not Mode.CONTINGENCY:
         return math.nan
     held = state.steer_curvature_1pm
-    if not math.isnan(held) or region is None or not region.decision.steering:
+    if not math.isnan(held) or region is None or region.decision.kind is not Contingency.STEER_AND_BRAKE:
         return held
     bounds = tightened_bounds(region.ego, region.decision, params.region)
     return min(bounds.curvature_hi_1pm, max(bounds.curvature_lo_1pm, region.decision.curvature_1pm))

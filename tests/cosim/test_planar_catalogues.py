@@ -191,9 +191,9 @@ def test_layout_errors_name_the_key(tmp_path):
 # -- representative closed-loop runs ----------------------------------------------------------------------
 @pytest.mark.slow
 def test_representative_planar_cells_run_and_fail_with_a_thumbnail(tmp_path):
-    """A kerb stop draws no intervention; a late stationary car at 100 km/h (braking cannot stop within 42 m): the
-    ECU with steering authority steers past it but, braking along its steering path, leaves the road (issue 22:
-    the plant spins under full braking in the turn); the report shows the failing cell's thumbnail."""
+    """A kerb stop draws no intervention; a late stationary car at 100 km/h is hit (braking cannot stop within
+    42 m, and no steering path's stopping path is disjoint: the ECU brakes in lane), on the road, and its report
+    shows the failing cell's thumbnail."""
     from dataclasses import replace
 
     from cosim.matrix.report import write_outputs
@@ -206,8 +206,8 @@ def test_representative_planar_cells_run_and_fail_with_a_thumbnail(tmp_path):
     rows, _ = run_matrix(cats, ["tightening"], phases=1, workers=1)
     kerb, late = rows
     assert kerb["passed"] and kerb["interventions"] == 0 and not kerb["collided"]
-    assert not late["collided"] and late["hit_object"] is None and late["road_departure_m"] > 0.0
-    assert late["verdict"] == "FAIL (left the road)" and not late["passed"]
+    assert late["collided"] and late["hit_object"] == "stopped car" and late["road_departure_m"] == 0.0
+    assert 0.0 < late["impact_kmh"] < 100.0 and not late["passed"]
     report = write_outputs(tmp_path, cats, rows, {"strategies": ["tightening"], "phases": 1, "runs": 2, "wall_s": 1.0,
                                                   "workers": 1, "version": "test"})
     thumb = tmp_path / "thumbs" / "emergency_steering_late-stationary-free-100.png"
