@@ -221,6 +221,11 @@ class CoreParams:
         0.17, unit="m", allowed=Range(0.0, 10.0),
         doc="standard deviation of a RadarTrack's position (the contract carries none): the +-0.5 m range accuracy "
             "of the radar data sheet (track_range_tolerance_m) taken as 3 sigma; the region inflates objects by 3 sigma")
+    track_speed_tolerance_mps: float = setting(
+        0.5, unit="m/s", allowed=Range(0.0, 20.0),
+        doc="the stopping region counts a RadarTrack as moving above moving_object_speed_mps plus this: its relative "
+            "velocity is the radar's, a radar latency old (0.1 s), while the ego's speed is this cycle's; at the "
+            "driver's 5 m/s^2 they are 0.5 m/s apart (measured: a car parked beside a curve read 0.51 m/s)")
     lane_width_m: float = setting(
         3.5, unit="m", allowed=Range(2.0, 6.0, low_open=True),
         doc="the ECU perceives no lanes (none on the contract): it assumes its own lane this wide, centred on it, "
@@ -259,4 +264,5 @@ class CoreParams:
         object.__setattr__(self, "hold_time_s", self.cycle_s + self.actuation_latency_s)
         from .region.params import region_params  # here: the region's parameters import this module
 
-        object.__setattr__(self, "region", region_params(self))
+        object.__setattr__(self, "region", region_params(
+            self, moving_object_speed_mps=self.moving_object_speed_mps + self.track_speed_tolerance_mps))

@@ -4,7 +4,9 @@ Only with ``steering_authority`` (the EPS applies our overlay); without it nothi
 the region's decision has no steering rows (:func:`ecu.core.region.decide`, ``steer=False``).
 
 * **Latch**: in ``CONTINGENCY``, the first cycle whose region decision is ``STEER_AND_BRAKE`` (a steering
-  path whose stopping path is disjoint) latches that path's curvature,
+  path whose stopping path is disjoint) while braking cannot keep the 1-D line's relevant object from
+  contact (its stopping path, without the standoff, is longer than the range: :func:`unavoidable`) latches
+  that path's curvature,
   clamped into the joint bounds tightened at the decision's proximity
   (:func:`ecu.core.region.tightened_bounds`; at proximity 1 the contingency's own). It is not
   re-decided: from a pose that already turns the assumed lane (:func:`ecu.core.planar.assumed_road`)
@@ -13,7 +15,10 @@ the region's decision has no steering rows (:func:`ecu.core.region.decide`, ``st
   The contingency is the stop along that path: while a path is latched and the car moves, the
   plan is held not released (:func:`steering_held`, :func:`ecu.core.planar.merged`), so the mode
   stays ``CONTINGENCY`` to standstill. Any other mode (a fault) drops it.
-  ``LEAST_IMPACT`` on a steering row is reported but not steered: its ranking assumes the others stop
+  Without the second condition the ECU steered for a parked car on the outside of a curve that its
+  line (a straight path) and its region (inflated 3 sigma, the box aligned with the ego) both
+  misjudged (``curve_parked_car``: it left its lane). ``LEAST_IMPACT`` on a steering row is reported
+  but not steered: its ranking assumes the others stop
   within their regions, and a crossing pedestrian who walks on was steered into (measured, ncap_vru: 41
   cells lost their band with it); the contingency then brakes in lane at full.
 * **Target**: the overlay that makes the road-wheel angle ``atan(kappa L)`` on top of the driver's,
@@ -37,6 +42,7 @@ from can_dbc.contract import signal_range
 from can_dbc.units import dbc_per_si
 
 from .params import CoreParams
+from .plan import Plan
 from .planar import RegionCycle
 from .region import Contingency, tightened_bounds
 from .types import CoreState, Mode
@@ -59,15 +65,23 @@ class Steering(NamedTuple):
 NO_STEERING = Steering(math.nan, 0.0, False, math.inf)
 
 
-def latched_curvature(state: CoreState, mode: Mode, region: RegionCycle | None, params: CoreParams) -> float:
+def latched_curvature(state: CoreState, mode: Mode, region: RegionCycle | None, unavoidable: bool,
+                      params: CoreParams) -> float:
     """The held steering path's curvature (module docstring, Latch); NaN for none."""
     if mode is not Mode.CONTINGENCY:
         return math.nan
     held = state.steer_curvature_1pm
-    if not math.isnan(held) or region is None or region.decision.kind is not Contingency.STEER_AND_BRAKE:
+    if (not math.isnan(held) or not unavoidable or region is None
+            or region.decision.kind is not Contingency.STEER_AND_BRAKE):
         return held
     bounds = tightened_bounds(region.ego, region.decision, params.region)
     return min(bounds.curvature_hi_1pm, max(bounds.curvature_lo_1pm, region.decision.curvature_1pm))
+
+
+def unavoidable(relevant: bool, plan: Plan, range_m: float) -> bool:
+    """Braking cannot keep the line's relevant object from contact: the plan's stopping path (to standstill, or to
+    zero relative speed behind a moving object) is longer than the range."""
+    return relevant and plan.stopping_distance_m > range_m
 
 
 def steering_held(state: CoreState, speed_mps: float, params: CoreParams) -> bool:
@@ -79,12 +93,13 @@ def _toward(previous: float, target: float, step: float) -> float:
     return previous + min(step, max(-step, target - previous))
 
 
-def steering(state: CoreState, mode: Mode, region: RegionCycle | None, inputs_wheel_rad: float,
+def steering(state: CoreState, mode: Mode, region: RegionCycle | None, unavoidable: bool, inputs_wheel_rad: float,
              yaw_rate_radps: float, speed_mps: float, decel_mps2: float, params: CoreParams) -> Steering:
-    """This cycle's request (module docstring); ``inputs_wheel_rad``: the driver's steering-wheel angle."""
+    """This cycle's request (module docstring); ``unavoidable``: braking cannot keep the line's object from contact;
+    ``inputs_wheel_rad``: the driver's steering-wheel angle."""
     if not params.steering_authority:
         return NO_STEERING
-    kappa = latched_curvature(state, mode, region, params)
+    kappa = latched_curvature(state, mode, region, unavoidable, params)
     rp = params.region
     target = 0.0
     if not math.isnan(kappa):
