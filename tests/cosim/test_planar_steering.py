@@ -76,3 +76,26 @@ def test_steering_avoids_what_braking_cannot_and_only_with_authority(fmu):
     col = {c: i for i, c in enumerate(braked.columns)}
     assert 2.0 not in {row[col["region_contingency"]] for row in braked.rows}  # no steering row without authority
     assert all(row[col["steer_overlay_rad"]] == 0.0 and row[col["y_m"]] == 0.0 for row in braked.rows)
+
+
+def test_the_birdseye_draws_the_reported_stopping_path():
+    """The region columns become a band of the ego's width along the reported arc, labelled with the contingency;
+    NOT_EVALUATED and rows before the first report draw nothing; only changed reports make a polygon."""
+    import numpy as np
+
+    from cosim.results.region_view import regions_from_columns, stopping_band
+    from cosim.results.scene_file import Body
+
+    body = Body("ego", "ego", 4.0, 2.0, 2.0)
+    cols = {"region_contingency": ["nan", "4", "0", "0", "2"], "region_curvature_1pm": ["nan", "0", "0", "0", "0.1"],
+            "region_stopping_m": ["nan", "0", "10", "10", "5"]}
+    t_s, pose = np.arange(5) * 0.1, np.zeros((5, 3))
+    times, polygons, labels = regions_from_columns(cols, t_s, pose, body)
+    assert list(times) == pytest.approx([0.0, 0.1, 0.2, 0.4]) and labels == ("", "", "DRIVER_PATH", "STEER_AND_BRAKE")
+    assert len(polygons[0]) == len(polygons[1]) == 0
+    straight = polygons[2]
+    assert straight[:, 0].min() == pytest.approx(2.0) and straight[:, 0].max() == pytest.approx(12.0)  # from the front
+    assert straight[:, 1].min() == pytest.approx(-1.0) and straight[:, 1].max() == pytest.approx(1.0)
+    arc = stopping_band((0.0, 0.0, 0.0), body, 0.1, 5.0)
+    assert arc[16, 1] > 0.9 and arc[16, 0] == pytest.approx(2.0 + 10.0 * np.sin(0.5) - 1.0 * np.sin(0.5))
+    assert regions_from_columns({}, t_s, pose, body) is None
