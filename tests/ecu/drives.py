@@ -9,6 +9,9 @@ cycle's state, outputs and :func:`ecu.core.plan_cycle` as a digest of their
 exact text (every float by ``repr``, every value with its type), and the
 outputs' decisions in full. ``test_step_golden.py`` compares them with those
 recorded from the core (``data/step_golden.npz``; see that test for its history).
+The planar fields added by issue 22 (:data:`PLANAR_DEFAULTS`) are not in the
+digest: these drives carry no planar tracks, so every cycle must hold their
+values of a run without them, which :func:`recorded` asserts.
 """
 
 from __future__ import annotations
