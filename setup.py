@@ -23,19 +23,28 @@ CORE = [
 
 
 def _compiled_core() -> list:
-    if os.environ.get("CRD_PURE_PYTHON"):
-        return []
     here = Path(__file__).resolve().parent
+    if os.environ.get("CRD_PURE_PYTHON"):
+        _remove_compiled(here / "ecu" / "core")
+        return []
     try:
         from mypyc.build import mypycify
 
         # the core's imports (numpy, python-can, the DBC-built enums) are checked only as far as it uses them
         options = ["--ignore-missing-imports", "--follow-imports=silent"]
         return mypycify(options + [str(Path("ecu", "core", f"{name}.py")) for name in CORE], opt_level="3",
-                        group_name="ecu.core._compiled") if here.is_dir() else []
+                        group_name="ecu.core._compiled")
     except (Exception, SystemExit) as exc:  # noqa: BLE001 - any failure (mypyc exits on one) leaves the core in Python
         print(f"crd: the ECU core stays pure Python ({type(exc).__name__}: {exc})", file=sys.stderr)
+        _remove_compiled(here / "ecu" / "core")
         return []
+
+
+def _remove_compiled(core: Path) -> None:
+    """An earlier build's compiled modules would shadow the sources (``import ecu`` refuses them): removed."""
+    for name in [*CORE, "_compiled__mypyc"]:
+        for built in core.glob(f"{name}.*.so"):
+            built.unlink()
 
 
 setup(ext_modules=_compiled_core())

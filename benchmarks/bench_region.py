@@ -13,7 +13,10 @@ machine shifts all of them alike; the ratio to the 1-D step is the load-robust f
   and lane test, the choice;
 * ``sat-2axis`` / ``sat-4axis``: the separation of the emergency family alone, with the pose's two
   axes (used) and with the objects' two axes added (the full separating-axis test), to show what
-  the conservative choice saves.
+  the conservative choice saves;
+* ``step-8-tracks``: the whole core step (``ecu.core.step``, the region wired, ``ecu.core.planar``) with
+  the ``nominal`` tracks as RadarTrack slots, the wheel turned; ``step-8-tracks-urgent``: the
+  ``emergency`` tracks with steering authority (the steering rows searched every cycle).
 
 Goal (issue 22): the whole core step with 8 tracks <= 100 µs, so <= 60 µs for this part.
 """
@@ -83,7 +86,27 @@ def _cases() -> dict:
             "nominal-straight": lambda: decide(ego_straight, calm, ROAD, PARAMS),
             "emergency": lambda: decide(ego_fast, urgent, ROAD, PARAMS),
             "sat-2axis": lambda: gaps(fam, objs, box),
-            "sat-4axis": lambda: _sat_4axis(fam, objs, box)}
+            "sat-4axis": lambda: _sat_4axis(fam, objs, box),
+            "step-8-tracks": _step_case(calm, 20.0, 0.05 * 20.0 / 20.0, CORE),
+            "step-8-tracks-urgent": _step_case(urgent, 30.0, 0.0, CoreParams(steering_authority=True))}
+
+
+def _step_case(boxes: list[TrackBox], speed_mps: float, yaw_rate: float, params: CoreParams):
+    """The whole core step, settled, with ``boxes`` as the contract's tracks (the ObjectTrack empty)."""
+    from can_dbc.planar import Track
+    from ecu.core import CoreInputs, CoreState, step
+
+    tracks = tuple(Track(i, b.size_class, 7, b.x_m, b.y_m, b.vx_mps, b.vy_mps) for i, b in enumerate(boxes))
+
+    def inputs(t_s: float) -> CoreInputs:
+        return CoreInputs(t_s=t_s, wheel_speeds_mps=(speed_mps,) * 4, accel_pedal=0.2, wheel_rx_t_s=t_s,
+                          driver_rx_t_s=t_s, object_rx_t_s=t_s, tracks=tracks, yaw_rate_radps=yaw_rate)
+
+    state = CoreState()
+    for k in range(30):
+        state, _ = step(state, inputs(k * 0.01), params)
+    cycle = inputs(0.3)
+    return lambda: step(state, cycle, params)
 
 
 def _median_us(fn, calls: int) -> float:

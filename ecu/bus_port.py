@@ -21,6 +21,7 @@ import can
 
 from can_dbc import RX_RATE, RX_SEQUENCE, Frame, Receiver, encode, signal_range
 from can_dbc.contract import FAULT_SIGNALS as DBC_FAULT_SIGNALS
+from can_dbc.contract import enumeration, timeout_s
 from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_dynamics, track
 from can_dbc.units import KMH_PER_MPS, PERCENT, dbc_per_si
 
@@ -28,8 +29,9 @@ from .core import CoreInputs, CoreOutputs
 from .core.types import NEVER_S, FaultFlag
 from .equipment import CORE_INPUT_MESSAGES, PLANAR_INPUT_MESSAGES
 
-#: every message an ECU may receive: the core's, and the planar ones (it latches them; the core does not use them
-#: yet). Which of them an ECU receives is its equipment's (:mod:`ecu.equipment`)
+#: every message an ECU may receive: the core's, and the planar ones (the stopping region's inputs, ecu.core.planar;
+#: a track or yaw rate that is missing or stale is simply absent: the region is not evaluated). Which of them an
+#: ECU receives is its equipment's (:mod:`ecu.equipment`)
 INPUT_MESSAGES = (*CORE_INPUT_MESSAGES, *PLANAR_INPUT_MESSAGES)
 SIM_CLOCK = "SimClock"
 #: each fault bit's 1-bit ``EcuStatus`` signal, from the DBC (bit k at DBC bit 50 + k)
@@ -61,10 +63,12 @@ class InputLatch:
         self.object_range_rate_mps = 0.0
         self.object_lateral_m = 0.0
         self.steering_wheel_rad = 0.0
-        # the planar inputs, latched as decoded and converted only when read: the core does not use them yet
-        # (the planar ECU: next issue): 1 + 8/5 frames a cycle were converted into records nobody read
+        # the planar inputs: the yaw rate converted as it comes (one frame a cycle); the track slots latched as
+        # decoded and converted once per radar report (every 5th cycle), when a slot changed
         self._esc: Mapping[str, float] | None = None
+        self.yaw_rate_radps = 0.0
         self._tracks: list[Mapping[str, float] | None] = [None] * len(TRACK_SLOTS)
+        self._track_tuple: tuple[Track, ...] | None = ()
         self.rx_t_s = {name: NEVER_S for name in INPUT_MESSAGES}
 
     def ingest(self, frame: Frame, t_s: float) -> bool:
@@ -89,8 +93,10 @@ class InputLatch:
             self.object_lateral_m = s["ObjectLateral"]
         elif name == "EscDynamics":
             self._esc = s
+            self.yaw_rate_radps = s["YawRate"] / _DEG_PER_RAD_S
         elif (slot := TRACK_SLOTS.get(name)) is not None:
             self._tracks[slot] = s
+            self._track_tuple = None
         else:
             return False
         self.rx_t_s[name] = t_s
@@ -106,6 +112,16 @@ class InputLatch:
         """The latest track of each ``RadarTrack`` slot (SI), None for an empty slot or before its first frame."""
         return [None if s is None else track(s, slot) for slot, s in enumerate(self._tracks)]
 
+    def live_tracks(self, t_s: float, timeout_s: float) -> tuple[Track, ...]:
+        """The tracks of the slots, empty slots left out, in slot order; none once the newest slot frame is older
+        than ``timeout_s`` (a radar that fell silent reports no object)."""
+        newest = max(self.rx_t_s[name] for name in TRACK_SLOTS)
+        if t_s - newest > timeout_s:
+            return ()
+        if self._track_tuple is None:
+            self._track_tuple = tuple(t for t in self.tracks if t is not None)
+        return self._track_tuple
+
     def inputs(self, t_s: float, receiver: Receiver, node_flags: int = 0) -> CoreInputs:
         """The core's inputs at cycle time ``t_s``, with the receiver's E2E scores and rate/sequence flags."""
         rx, health = self.rx_t_s, receiver.health
@@ -120,17 +136,25 @@ class InputLatch:
             wheel_e2e_score=wheel_score, driver_e2e_score=driver_score, object_e2e_score=object_score,
             wheel_rx_flags=_RX_FAULTS[wheel_rx], driver_rx_flags=_RX_FAULTS[driver_rx],
             object_rx_flags=_RX_FAULTS[object_rx], node_flags=node_flags,
+            tracks=self.live_tracks(t_s, _TRACK_TIMEOUT_S), yaw_rate_radps=self.yaw_rate_radps,
+            steering_wheel_rad=self.steering_wheel_rad,
         )
 
 
-def steering_message(counter: int) -> can.Message:
-    """``SteeringOverride`` pass-through (``SteerActive`` 0): the longitudinal core requests no steering (sent by
-    an ECU with steering authority only, :mod:`ecu.equipment`)."""
-    return encode("SteeringOverride", _NO_STEERING, counter=counter)
+def steering_message(outputs: CoreOutputs | None, counter: int) -> can.Message:
+    """``SteeringOverride`` of gated outputs (None: pass-through, ``SteerActive`` 0); sent by an ECU with steering
+    authority only (:mod:`ecu.equipment`)."""
+    if outputs is None or not outputs.steer_active:
+        return encode("SteeringOverride", _NO_STEERING, counter=counter)
+    return encode("SteeringOverride", {"SteerActive": 1, "SteerAngleRequest": outputs.steer_request_rad * _DEG_PER_RAD},
+                  counter=counter)
 
 
 _NO_STEERING = {"SteerActive": 0, "SteerAngleRequest": 0.0}
 _DEG_PER_RAD = dbc_per_si("deg")
+_DEG_PER_RAD_S = dbc_per_si("deg/s")
+#: the track slots time out as ObjectTrack does (the DBC's cycle times the E2E tolerance, can_dbc.contract)
+_TRACK_TIMEOUT_S = timeout_s("RadarTrack0")
 
 
 def _clamped(value: float, limits: tuple[float, float]) -> float:
@@ -161,3 +185,27 @@ def status_message(outputs: CoreOutputs, strategy_code: int, counter: int) -> ca
         "SpeedEstimate": _clamped(outputs.speed_estimate_mps, _SPEED_MPS),
         **fault_signals(outputs.fault_flags),
     }, counter=counter)
+
+
+_REGION_RANGES = {name: signal_range("EcuRegionStatus", name)
+                  for name in ("RegionProximity", "RegionCurvature", "RegionClearance", "RegionStoppingDistance")}
+#: ``EcuRegionStatus.Contingency`` without planar tracks
+NOT_EVALUATED = {name: value for value, name in enumeration("EcuRegionStatus", "Contingency").items()}["NOT_EVALUATED"]
+
+
+def _saturated(value: float, limits: tuple[float, float]) -> float:
+    """Clamped into ``limits``, +-inf to the nearer end (a clearance without objects is +inf); NaN to the low end."""
+    low, high = limits
+    return low if math.isnan(value) else min(high, max(low, value))
+
+
+def region_message(outputs: CoreOutputs, counter: int) -> can.Message:
+    """``EcuRegionStatus``: the region's contingency, proximity, curvature, clearance, stopping distance (saturated
+    into their DBC ranges: informational); ``NOT_EVALUATED`` and zeros without planar tracks."""
+    region = outputs.region
+    if region is None:
+        return encode("EcuRegionStatus", {"Contingency": NOT_EVALUATED, **dict.fromkeys(_REGION_RANGES, 0.0)},
+                      counter=counter)
+    values = (region.proximity, region.curvature_1pm, region.clearance_m, region.stopping_distance_m)
+    return encode("EcuRegionStatus", {"Contingency": region.contingency, **{
+        name: _saturated(v, limits) for (name, limits), v in zip(_REGION_RANGES.items(), values)}}, counter=counter)

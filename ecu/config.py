@@ -58,6 +58,7 @@ class EcuConfig(CoreParams):
     def __post_init__(self) -> None:
         settings.check(self)
         _check_contract(self)
+        _steering_from_equipment(self)
         CoreParams.__post_init__(self)
 
     @classmethod
@@ -89,6 +90,14 @@ def _from_file(data: Mapping[str, Any]) -> EcuConfig:
                 raise SettingError(name, f"unknown key; did you mean {SECTION}?")
         return EcuConfig()
     return EcuConfig.from_dict(data, "")
+
+
+def _steering_from_equipment(config: EcuConfig) -> None:
+    """Steering authority is the equipment's (``planar_steering`` sends SteeringOverride); a stated
+    ``steering_authority`` gives way to it, so that a configuration whose equipment changes stays whole."""
+    steers = EQUIPMENT[config.equipment].steering
+    if config.steering_authority != steers:
+        object.__setattr__(config, "steering_authority", steers)
 
 
 def _check_contract(config: EcuConfig) -> None:

@@ -5,9 +5,9 @@ cycle through the E2E receiver (bad frames are counted and ignored; a fresh
 frame's receive time is the cycle time ``t_s``, so the same frames at the same
 cycle times give the same outputs), run the core, send ``SafetyOverride`` (and
 ``SteeringOverride`` with steering authority) and, every
-``status_period_cycles``-th cycle, ``EcuStatus``. Which frames it receives and
-sends is its equipment's (``config.equipment``, :mod:`ecu.equipment`): a frame
-of a message it is not equipped for is counted as ``UnknownFrame`` and ignored.
+``status_period_cycles``-th cycle, ``EcuStatus`` (and ``EcuRegionStatus`` with the planar sensors).
+Which frames it receives and sends is its equipment's (``config.equipment``, :mod:`ecu.equipment`): a
+frame of a message it is not equipped for is counted as ``UnknownFrame`` and ignored.
 
 Scheduling is separate (:mod:`ecu.scheduler`): lock-step by calling
 ``step(t_s)``, real time on the wall clock, or sim time paced by ``SimClock``
@@ -40,6 +40,7 @@ malfunction rule) and ``CLOCK`` (a ``SimClock`` that does not advance by
 from __future__ import annotations
 
 import logging
+import math
 import threading
 from collections import Counter
 
@@ -48,7 +49,7 @@ import can
 from can_dbc import (AUTHENTICATORS, ECU_CYCLE_S, LAYOUTS, CounterSequence, Frame, Receiver, SecOcSender,
                      SecOcVerifier, cycle_time_s, encode, load_key_file)
 
-from .bus_port import SIM_CLOCK, InputLatch, override_message, status_message, steering_message
+from .bus_port import SIM_CLOCK, InputLatch, override_message, region_message, status_message, steering_message
 from .config import STATUS_PERIOD_CYCLES, EcuConfig
 from .equipment import EQUIPMENT
 from .config_digest import identity_signals
@@ -85,6 +86,7 @@ class EcuNode:
         self._signer = SecOcSender(key) if key is not None else None
         equipment = EQUIPMENT[self.config.equipment]
         self._steers = equipment.steering  # sends SteeringOverride: the ECU has steering authority
+        self._planar = equipment.planar  # sends EcuRegionStatus: the stopping region's status (planar sensors)
         self._receiver = Receiver(names=(*equipment.inputs, SIM_CLOCK),
                                   secoc=SecOcVerifier(key) if key is not None else None)
         self._clock_ids = {SIM_CLOCK_ID} | ({AUTHENTICATORS[SIM_CLOCK]} if key is not None else set())
@@ -96,6 +98,7 @@ class EcuNode:
         self._next_override = CounterSequence().next
         self._next_steering = CounterSequence().next
         self._next_status = CounterSequence().next
+        self._next_region = CounterSequence().next
         self._cycle_index = 0
         self._pending: dict[str, Frame] = {}  # sim time: the latest checked frame of each message
         self.outputs: CoreOutputs | None = None
@@ -244,8 +247,10 @@ class EcuNode:
         self.outputs = outputs
         self._request(override_message(outputs, self._next_override()))
         if self._steers:
-            self._request(steering_message(self._next_steering()))
+            self._request(steering_message(outputs, self._next_steering()))
         if self._cycle_index % self.config.status_period_cycles == 0:
+            if self._planar:  # the region's status first: a lock-step master that waits for EcuStatus has both
+                self._send(region_message(outputs, self._next_region()))
             self._send(status_message(outputs, self.config.strategy_code, self._next_status()))
             if self._identity is not None and self._cycle_index % IDENTITY_PERIOD_CYCLES == 0:
                 self.announce()
@@ -263,7 +268,8 @@ class EcuNode:
         braking = state.held_contingency or state.mode == Mode.CONTINGENCY
         decel = self.config.contingency_decel_mps2 if braking else 0.0
         self._state = state._replace(mode=Mode.FAULT, valid_cycles=0, held_contingency=braking,
-                              prev_decel_request_mps2=decel)
+                                     prev_decel_request_mps2=decel, steer_curvature_1pm=None,
+                                     steer_request_rad=0.0)
         return CoreOutputs(
             mode=Mode.FAULT, override_active=True, throttle_limit_pct=0.0,
             brake_decel_request_mps2=decel, fault_flags=1 << FaultFlag.INTERNAL,

@@ -4,8 +4,9 @@ Each cycle the master sends its frames, then ``SimClock`` (``SimTimeMs =
 round(t * 1000)``); the ECU (``crd ecu --sim-time``) runs one cycle on it,
 after the frames before it, and the master waits up to ``stall_timeout_s``
 (wall time) for that cycle's ``SafetyOverride`` (and ``SteeringOverride`` from an
-ECU with steering authority, :mod:`ecu.equipment`; and,
-for a spawned ECU, the ``EcuStatus`` due in that cycle) before it advances. The ECU sees the same
+ECU with steering authority, :mod:`ecu.equipment`; and the ``EcuStatus`` due in that cycle,
+which the ECU sends after ``EcuRegionStatus``, whose values go into the time series) before it
+advances. The ECU sees the same
 frames at the same cycle times as in process, so metrics and time series are
 identical. A silent ECU is a stall (:mod:`cosim.link.stall`): simulated time
 is held while the master waits; past ``stall_timeout_s`` it stops the run with
@@ -48,7 +49,7 @@ class LockStepLink(BusLink):
     def __init__(self, options: EcuOptions, config: EcuConfig, key: bytes | None = None) -> None:
         super().__init__(options, config, key)
         self._signer = SecOcSender(key) if key is not None else None
-        self._status_period = config.status_period_cycles if options.mode == "process" else None
+        self._status_period = config.status_period_cycles  # the statuses of the cycle, in this cycle
         self._reply_ids = reply_ids(config.equipment, key is not None)
         self._clock_seq = CounterSequence()
         self._stall = StallWatch(options.reply_timeout_s, options.stall_timeout_s)

@@ -16,7 +16,7 @@ from typing import Sequence
 
 import can
 
-from can_dbc import ECU_CYCLE_S, CounterSequence, encode, signal_layout
+from can_dbc import ECU_CYCLE_S, LAYOUTS, CounterSequence, FrameError, check_alone, encode, signal_layout
 from can_dbc.contract import enumeration
 from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_signals, track_signals
 
@@ -74,3 +74,26 @@ class PlanarFrames:
         """The eight ``RadarTrack`` slots of this radar cycle: ``tracks`` in order, then empty slots."""
         return [encode(name, track_signals(tracks[slot] if slot < len(tracks) else None, slot),
                        self._next_slot[slot]()) for name, slot in TRACK_SLOTS.items()]
+
+
+_REGION_ID = LAYOUTS["EcuRegionStatus"].frame_id
+_REGION_SIGNALS = ("Contingency", "RegionProximity", "RegionCurvature", "RegionClearance", "RegionStoppingDistance")
+
+
+class RegionCells:
+    """The time series' region cells (``REGION_COLUMNS`` but the overlay): the last ``EcuRegionStatus`` the ECU
+    sent, each frame checked on its own (CRC; a bad one is skipped), NaN before the first."""
+
+    def __init__(self) -> None:
+        self._cells: tuple[float, ...] = (math.nan,) * len(_REGION_SIGNALS)
+
+    def cells(self, received: Sequence[can.Message]) -> tuple[float, ...]:
+        """The cells after this cycle's frames from the ECU."""
+        for msg in received:
+            if msg.arbitration_id == _REGION_ID:
+                try:
+                    signals = check_alone(msg).signals
+                except FrameError:
+                    continue
+                self._cells = tuple(float(signals[name]) for name in _REGION_SIGNALS)
+        return self._cells

@@ -194,7 +194,8 @@ class _Frame:
             if show:
                 self.stopping.set_xy(polygons[i])
             self.stopping.set_visible(show)
-            self.stop_text.set_text("stopping region" if show else "")
+            label = track.region_labels[i] if show and track.region_labels is not None else "stopping region"
+            self.stop_text.set_text(label if show else "")
             return
         d = np.nan if track.stopping_m is None else float(track.stopping_m[j])
         show = math.isfinite(d) and d > 0.0

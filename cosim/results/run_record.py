@@ -17,6 +17,10 @@ TIMESERIES_COLUMNS = ("time_s", "position_m", "speed_mps", "accel_mps2", "thrott
 #: centre and heading
 EGO_POSE_COLUMNS = ("x_m", "y_m", "yaw_rad", "steering_wheel_angle_rad")
 OBJECT_POSE_COLUMNS = ("x_m", "y_m", "yaw_rad")
+#: then the ECU's stopping region as its last ``EcuRegionStatus`` reported it (NaN before the first; the
+#: contingency as its DBC value, ``NOT_EVALUATED`` without planar tracks) and the steering overlay the EPS applied
+REGION_COLUMNS = ("region_contingency", "region_proximity", "region_curvature_1pm", "region_clearance_m",
+                  "region_stopping_m", "steer_overlay_rad")
 
 
 def timeseries_columns(scenario: Scenario) -> tuple[str, ...]:
@@ -25,7 +29,7 @@ def timeseries_columns(scenario: Scenario) -> tuple[str, ...]:
     if not scenario.planar:
         return TIMESERIES_COLUMNS
     objects = [f"obj{i}_{c}" for i in range(len(scenario.scene_objects())) for c in OBJECT_POSE_COLUMNS]
-    return (*TIMESERIES_COLUMNS, *EGO_POSE_COLUMNS, *objects)
+    return (*TIMESERIES_COLUMNS, *EGO_POSE_COLUMNS, *objects, *REGION_COLUMNS)
 
 
 def pose_cells(ego: Ego, steering_rad: float, scene: Scene, t_s: float) -> tuple[float, ...]:

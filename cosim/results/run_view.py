@@ -20,6 +20,7 @@ import numpy as np
 from ..errors import ConfigError
 from ..world.geometry import Box, contact
 from ..world.road import Road
+from .region_view import regions_from_columns
 from .scene_file import Body, read_scene
 
 SCENE_FILE = "scene.json"
@@ -56,6 +57,8 @@ class StrategyTrack:
     stopping_m: np.ndarray | None
     regions: tuple[np.ndarray, tuple[np.ndarray, ...]] | None
     collision: Collision | None
+    #: per region polygon, its label (the ECU's contingency, :mod:`cosim.results.region_view`); None: unlabelled
+    region_labels: tuple[str, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -180,10 +183,14 @@ def _planar_track(run_dir: Path, strategy: str, ego: Body, objects: tuple[Body, 
     pose = np.column_stack([floats(cols, c, path) for c in ("x_m", "y_m", "yaw_rad")])
     objs = np.stack([np.column_stack([floats(cols, f"obj{i}_{c}", path) for c in ("x_m", "y_m", "yaw_rad")])
                      for i in range(len(objects))]) if objects else np.empty((0, len(pose), 3))
-    track = StrategyTrack(strategy, floats(cols, "time_s", path), pose, floats(cols, "speed_mps", path), objs,
+    t_s = floats(cols, "time_s", path)
+    regions, labels = _regions(run_dir / strategy / STOPPING_REGION_FILE), None
+    if regions is None and (reported := regions_from_columns(cols, t_s, pose, ego)) is not None:
+        regions, labels = reported[:2], reported[2]
+    track = StrategyTrack(strategy, t_s, pose, floats(cols, "speed_mps", path), objs,
                           tuple(cols["ecu_mode"]) if "ecu_mode" in cols else None,
                           floats(cols, "stopping_distance_m", path) if "stopping_distance_m" in cols else None,
-                          _regions(run_dir / strategy / STOPPING_REGION_FILE), None)
+                          regions, None, labels)
     return with_collision(track, ego, objects, collision_event(run_dir, strategy), impact)
 
 

@@ -83,6 +83,9 @@ _MODE_NAMES = MODE_NAMES  # the DBC's VAL_ of SafetyOverride.Mode
 _CONTINGENCY = next(code for code, name in MODE_NAMES.items() if name == "CONTINGENCY")
 _STATUS_ID = LAYOUTS["EcuStatus"].frame_id
 _IDENTITY_IDS = (LAYOUTS["EcuIdentity"].frame_id, AUTHENTICATORS["EcuIdentity"])
+#: frames of the ECU that are not the brake's business: its announcement (the link's, cosim.link.ecu_identity) and
+#: its region status (the time series', cosim.loop.planar_frames.RegionCells)
+_NOT_OURS = (*_IDENTITY_IDS, LAYOUTS["EcuRegionStatus"].frame_id)
 #: event kinds that make a run exit non-zero (cosim.cli)
 SECURITY_EVENTS = ("auth_failure", "ecu_security_fault")
 
@@ -143,7 +146,7 @@ class Gateway:
         elif msg.arbitration_id == _STATUS_ID:
             self._ecu_status(msg, t_s)
             return False
-        elif msg.arbitration_id in _IDENTITY_IDS:  # the ECU's announcement: the link's (cosim.link.ecu_identity)
+        elif msg.arbitration_id in _NOT_OURS:
             return False
         try:
             frame = self._rx.check(msg)

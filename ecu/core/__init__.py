@@ -5,8 +5,9 @@ No I/O, no clock, no logging. Submodules, one concern each, composed by
 and ``plausibility``, ``speed_estimate``, the strategy (``strategies``, one
 module each, in a registry; ``decel_estimate`` is ``adaptive``'s estimate of the achievable
 deceleration, our extension), ``plan`` (``proximity``, ``intent``,
-``stopping_path``, ``relative_stop``), ``modes`` and ``degraded``, and
-``output_gate``.
+``stopping_path``, ``relative_stop``), with planar tracks ``planar`` (the stopping region,
+``region``, over every track), ``modes`` and ``degraded``, ``steering`` (the steering
+contingency's request), and ``output_gate``.
 """
 
 from .params import STRATEGIES, CoreParams

@@ -82,3 +82,18 @@ def gate(mode: object, throttle_limit_pct: object, decel_request_mps2: object) -
         throttle = SAFE_THROTTLE_PCT
     pass_through = throttle == PASS_THROUGH_THROTTLE_PCT and decel == PASS_THROUGH_DECEL_MPS2
     return GatedOutputs(safe_mode, not pass_through, throttle, decel, bad_throttle + bad_decel + bad_mode)
+
+
+def gate_steering(active: bool, request_rad: float, limits_rad: tuple[float, float]) -> tuple[bool, float, int]:
+    """``SteeringOverride``'s (SteerActive, SteerAngleRequest rad, interventions): a request that is not a finite
+    real number inside ``limits_rad`` is replaced by the pass-through (inactive, 0) and counted; an inactive
+    request is always 0."""
+    if not active:
+        return False, 0.0, 0
+    cls = request_rad.__class__
+    if (cls is not float and cls is not int and (not isinstance(request_rad, numbers.Real)
+                                                 or isinstance(request_rad, bool))):
+        return False, 0.0, 1
+    if not (math.isfinite(request_rad) and limits_rad[0] <= request_rad <= limits_rad[1]):
+        return False, 0.0, 1
+    return True, float(request_rad), 0

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 from can_dbc.contract import BRAKE_DECEL_MAX_MPS2, ECU_CYCLE_S, STRATEGY_CODES, timeout_s
 from can_dbc.contract import STRATEGIES as DBC_STRATEGIES
@@ -209,6 +210,34 @@ class CoreParams:
         doc="degraded mode (ecu.core.degraded) plans with at most this fraction of peak_decel_mps2, the "
             "conservative strategy's: with a sensor lost it needs the margin (measured: 0.9 stopped 5 cm short)")
 
+    steering_authority: bool = setting(
+        False, doc="the EPS applies this ECU's SteeringOverride (a plant with a steering input): the stopping region "
+                   "may choose steering paths (ecu.core.planar); without it the ECU brakes only. An ECU's "
+                   "configuration (ecu.EcuConfig) takes it from its equipment: true exactly with planar_steering")
+    steering_ratio: float = setting(
+        16.0, allowed=Range(1.0, 50.0),
+        doc="steering-wheel angle / road-wheel angle, for the driver's road-wheel angle from DriverInput: the builtin "
+            "plant's 16 (passenger cars 12-20:1, fmu_plant/README.md)")
+    track_position_sigma_m: float = setting(
+        0.17, unit="m", allowed=Range(0.0, 10.0),
+        doc="standard deviation of a RadarTrack's position (the contract carries none): the +-0.5 m range accuracy "
+            "of the radar data sheet (track_range_tolerance_m) taken as 3 sigma; the region inflates objects by 3 sigma")
+    track_speed_tolerance_mps: float = setting(
+        0.5, unit="m/s", allowed=Range(0.0, 20.0),
+        doc="the stopping region counts a RadarTrack as moving above moving_object_speed_mps plus this: its relative "
+            "velocity is the radar's, a radar latency old (0.1 s), while the ego's speed is this cycle's; at the "
+            "driver's 5 m/s^2 they are 0.5 m/s apart (measured: a car parked beside a curve read 0.51 m/s)")
+    lane_width_m: float = setting(
+        3.5, unit="m", allowed=Range(2.0, 6.0, low_open=True),
+        doc="the ECU perceives no lanes (none on the contract): it assumes its own lane this wide, centred on it, "
+            "following its current curvature (the bird's-eye catalogues' 3.5 m lanes)")
+    free_lanes_left: int = setting(
+        1, allowed=Range(0, 4),
+        doc="... and this many lanes to its left that a steering path may enter when no track's centre lies in them "
+            "(right-hand traffic: a two-lane road's other lane); beyond them is off the road (UN R79 ESF)")
+    free_lanes_right: int = setting(0, allowed=Range(0, 4),
+                                    doc="... and this many to its right (0: the road's edge bounds our lane)")
+
     model_decel_mps2: float = field(init=False, repr=False, compare=False)
     model_decel_fraction: float = field(init=False, repr=False, compare=False)
     #: the strategy's rules (:mod:`ecu.core.strategies`): what it decides each cycle
@@ -217,6 +246,9 @@ class CoreParams:
     #: t_h = cycle_s + actuation_latency_s: how long the driver's command is assumed held (s). A field set
     #: once here, not a property: read up to four times a cycle, a property call cost ~0.1 µs each (measured).
     hold_time_s: float = field(init=False, repr=False, compare=False)
+    #: the stopping region's :class:`~ecu.core.region.RegionParams` (:func:`ecu.core.region.region_params`), built
+    #: once (typed Any: that module imports this one, and the settings loader resolves every field's type)
+    region: Any = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         # imported here: the strategies' modules import this one's module (decel_estimate: NON_DRIVEN_WHEELS)
@@ -231,3 +263,7 @@ class CoreParams:
         object.__setattr__(self, "model_decel_mps2", fraction * self.peak_decel_mps2)
         object.__setattr__(self, "strategy_code", STRATEGIES[self.strategy])
         object.__setattr__(self, "hold_time_s", self.cycle_s + self.actuation_latency_s)
+        from .region.params import region_params  # here: the region's parameters import this module
+
+        object.__setattr__(self, "region", region_params(
+            self, moving_object_speed_mps=self.moving_object_speed_mps + self.track_speed_tolerance_mps))

@@ -15,10 +15,12 @@ Order within the cycle, each step a call of the module that defines it:
 4. strategy (:mod:`ecu.core.strategies`): its deceleration estimate, if it
    keeps one, and the model deceleration D of this cycle;
 5. plan: proximity, the strategy's bound, the command's stopping path and its
-   disjointness (:mod:`ecu.core.plan`);
+   disjointness (:mod:`ecu.core.plan`); with planar tracks, the stopping region
+   over every track and what it adds to the plan's disjointness (:mod:`ecu.core.planar`);
 6. mode: the state machine and the mode's commands (:func:`ecu.core.modes.decide`);
    while faulted, the degraded check of what is still valid
-   (:mod:`ecu.core.degraded`);
+   (:mod:`ecu.core.degraded`); with steering authority, the steering contingency's
+   request and the braking the friction circle leaves beside it (:mod:`ecu.core.steering`);
 7. the output gate (:mod:`ecu.core.output_gate`).
 
 Pure: no I/O, no clock, no logging; the same state and inputs give the same
@@ -30,12 +32,14 @@ from __future__ import annotations
 
 from .degraded import degraded_brake, release_speed_mps
 from .modes import decide
-from .output_gate import gate
+from .output_gate import gate, gate_steering
 from .params import CoreParams
 from .plan import plan
+from .planar import merged, region_cycle, report
 from .plausibility import Health, input_health, speed_radar_implausible
 from .relevance import in_path
 from .speed_estimate import next_speed
+from .steering import REQUEST_RANGE_RAD, steering, steering_held, unavoidable
 from .track_confirmation import confirmed, next_track
 from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag
 from .validity import input_validity
@@ -70,24 +74,32 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     fault = flags & ~REPORT_ONLY_FLAGS
     estimate, decel_mps2 = params.strategy_rules.cycle_decel(state, inputs, speed, wheels_ok, params)
     cycle_plan = plan(speed, inputs, relevant, decel_mps2, params)
+    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params) if inputs.tracks else None
+    cycle_plan = merged(cycle_plan, region, steering_held(state, speed, params))
     # standstill only matters while faulted (a held contingency ends there)
     stopped = bool(fault) and release_speed_mps(speed, wheels_ok, inputs, params) <= params.standstill_speed_mps
     mode, valid_cycles, held, throttle, decel = decide(state, cycle_plan, fault, stopped, params)
     if (fault and decel < params.contingency_decel_mps2 and confirmed_track
             and degraded_brake(speed, wheels_ok, driver_ok, inputs, params)):
         decel = params.contingency_decel_mps2  # degraded mode (ecu.core.degraded)
-    gated = gate(mode, throttle, decel)
-    if gated.interventions:
+    steer = steering(state, mode, region, unavoidable(relevant, cycle_plan, inputs.object_range_m),
+                     inputs.steering_wheel_rad, inputs.yaw_rate_radps, speed, decel_mps2, params)
+    gated = gate(mode, throttle, min(decel, steer.decel_mps2))
+    steer_active, steer_rad, steer_bad = gate_steering(steer.active, steer.request_rad, REQUEST_RANGE_RAD)
+    interventions = gated.interventions + steer_bad
+    if interventions:
         flags |= _INTERNAL
     next_state = CoreState(
         mode=gated.mode, speed_mps=speed, speed_initialised=initialised, prev_free_wheel_mean_mps=free_mean,
         prev_decel_request_mps2=gated.brake_decel_request_mps2, cycles_since_brake=since_brake,
         valid_cycles=valid_cycles, held_contingency=held,
-        gate_interventions=state.gate_interventions + gated.interventions, decel=estimate, track=track,
-        cycles_since_drive=health.cycles_since_drive, traction_excess_mps=health.traction_excess_mps)
+        gate_interventions=state.gate_interventions + interventions, decel=estimate, track=track,
+        cycles_since_drive=health.cycles_since_drive, traction_excess_mps=health.traction_excess_mps,
+        steer_curvature_1pm=steer.curvature_1pm, steer_request_rad=steer_rad)
     outputs = CoreOutputs(
         mode=gated.mode, override_active=gated.override_active, throttle_limit_pct=gated.throttle_limit_pct,
         brake_decel_request_mps2=gated.brake_decel_request_mps2, fault_flags=flags,
         proximity=cycle_plan.proximity, stopping_distance_m=cycle_plan.stopping_distance_m,
-        speed_estimate_mps=speed, disjoint=cycle_plan.disjoint, gate_intervened=gated.interventions > 0)
+        speed_estimate_mps=speed, disjoint=cycle_plan.disjoint, gate_intervened=interventions > 0,
+        steer_active=steer_active, steer_request_rad=steer_rad, region=report(region))
     return next_state, outputs

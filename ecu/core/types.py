@@ -25,6 +25,7 @@ from enum import IntEnum
 from typing import NamedTuple
 
 from can_dbc.contract import FAULT_SIGNALS, MODE_NAMES
+from can_dbc.planar import Track
 
 from .decel_estimate import DecelEstimate
 from .track_confirmation import TrackState
@@ -75,6 +76,12 @@ class CoreInputs(NamedTuple):
     object_rx_flags: int = 0
     #: the node's own findings as FaultFlag bits (CLOCK, AUTH, FOREIGN_OVERRIDE)
     node_flags: int = 0
+    #: the planar inputs: the latest ``RadarTrack`` slots' tracks (:class:`can_dbc.planar.Track`, empty slots
+    #: left out; empty: no planar track, the stopping region is not evaluated), ``EscDynamics``'s yaw rate
+    #: (rad/s, left positive) and ``DriverInput``'s steering-wheel angle (rad, left positive)
+    tracks: tuple[Track, ...] = ()
+    yaw_rate_radps: float = 0.0
+    steering_wheel_rad: float = 0.0
 
 
 class CoreState(NamedTuple):
@@ -101,6 +108,10 @@ class CoreState(NamedTuple):
     decel: DecelEstimate = DecelEstimate()
     #: the radar track's confirmation (:mod:`ecu.core.track_confirmation`).
     track: TrackState = TrackState()
+    #: the steering path the contingency holds (its curvature, 1/m; None: none) and the overlay last
+    #: requested (rad) (:mod:`ecu.core.steering`)
+    steer_curvature_1pm: float | None = None
+    steer_request_rad: float = 0.0
 
 
 class CoreOutputs(NamedTuple):
@@ -116,3 +127,18 @@ class CoreOutputs(NamedTuple):
     speed_estimate_mps: float
     disjoint: bool
     gate_intervened: bool
+    #: ``SteeringOverride``: the road-wheel angle overlay (rad, left positive) and whether it is requested
+    steer_active: bool = False
+    steer_request_rad: float = 0.0
+    #: ``EcuRegionStatus``: the stopping region's report (None: not evaluated, no planar track)
+    region: RegionReport | None = None
+
+
+class RegionReport(NamedTuple):
+    """What ``EcuRegionStatus`` carries of one cycle's region decision (:mod:`ecu.core.planar`)."""
+
+    contingency: int
+    proximity: float
+    curvature_1pm: float
+    clearance_m: float
+    stopping_distance_m: float

@@ -4,10 +4,10 @@ A 1-D scene equips the ECU as ``longitudinal``: the bus carries DriverInput, Whe
 SafetyOverride every cycle, ObjectTrack every 5th and EcuStatus every 10th, and no planar frame
 (before: EscDynamics and SteeringOverride every cycle and RadarTrack0..7 every 5th, in every run).
 A planar scene whose plant takes the ECU's steer_request (the builtin plant's) equips it as
-``planar_steering``: those, plus EscDynamics and SteeringOverride every cycle and the eight
-RadarTrack slots every 5th. The same in process and with the ECU in its own process (which adds
+``planar_steering``: those, plus EscDynamics and SteeringOverride every cycle, the eight
+RadarTrack slots every 5th and the stopping region's EcuRegionStatus every 10th. The same in process and with the ECU in its own process (which adds
 the SimClock that paces it and the ECU's EcuIdentity), each frame but EcuStatus followed by its
-SecOC authenticator. A stated ``[ecu] equipment`` must be the scene's, and the resolved file
+SecOC authenticator (the statuses have none). A stated ``[ecu] equipment`` must be the scene's, and the resolved file
 leaves it to the scene.
 """
 
@@ -33,7 +33,7 @@ ONE_D, PLANAR = "cosim/scenarios/paper_cyclist.toml", "cosim/scenarios/paper_cyc
 LONGITUDINAL = {"DriverInput": CYCLES, "WheelSpeeds": CYCLES, "SafetyOverride": CYCLES,
                 "ObjectTrack": CYCLES // 5, "EcuStatus": CYCLES // 10}
 PLANAR_STEERING = {**LONGITUDINAL, "EscDynamics": CYCLES, "SteeringOverride": CYCLES,
-                   **{name: CYCLES // 5 for name in TRACK_SLOTS}}
+                   **{name: CYCLES // 5 for name in TRACK_SLOTS}, "EcuRegionStatus": CYCLES // 10}
 
 
 @pytest.fixture(scope="module")
@@ -63,8 +63,8 @@ def test_the_bus_carries_the_frames_of_the_scenes_equipment(fmu, mode, path, exp
     # the lock-step link paces the ECU process, which announces itself in its first cycle (a standalone node)
     process = {"SimClock": CYCLES, "EcuIdentity": 1} if mode == "process" else {}
     assert dict(data) == {**expected, **process}
-    # each frame followed by its authenticator, but the informational EcuStatus (sent without one)
-    assert dict(auth) == {name: n for name, n in data.items() if name != "EcuStatus"}
+    # each frame followed by its authenticator, but the informational statuses (sent without one)
+    assert dict(auth) == {name: n for name, n in data.items() if name not in ("EcuStatus", "EcuRegionStatus")}
 
 
 def test_the_scene_gives_the_equipment():

@@ -191,8 +191,9 @@ def test_layout_errors_name_the_key(tmp_path):
 # -- representative closed-loop runs ----------------------------------------------------------------------
 @pytest.mark.slow
 def test_representative_planar_cells_run_and_fail_with_a_thumbnail(tmp_path):
-    """A kerb stop draws no intervention; a late stationary car at 100 km/h is hit by today's braking-only ECU
-    (braking cannot stop within 42 m), on the road, and its report shows the failing cell's thumbnail."""
+    """A kerb stop draws no intervention; a late stationary car at 100 km/h is hit (braking cannot stop within
+    42 m, and no steering path's stopping path is disjoint: the ECU brakes in lane), on the road, and its report
+    shows the failing cell's thumbnail."""
     from dataclasses import replace
 
     from cosim.matrix.report import write_outputs

@@ -1,7 +1,7 @@
 """The ECU's steering request reaches the plant, in the closed loop (issue 21).
 
 A planar run (the paper's scene on the road, the driver's wheel held straight), whose ECU asks for
-steering: its ``SteeringOverride`` (today always ``SteerActive`` 0, ``ecu.bus_port.steering_message``)
+steering: its ``SteeringOverride`` (``ecu.bus_port.steering_message``, replaced here)
 ramps to 2 deg from 0.5 s, signed by the ECU with the run's SecOC key as every frame it sends. The
 steering gateway accepts it and its overlay reaches the plant's ``steer_request`` input
 ([plant.inputs], vr 6): the road-wheel angle goes to 2 deg and the car turns left; the ESC frame
@@ -44,7 +44,7 @@ def steered_run(fmu, monkeypatch, by_ecu: bool):
     sc = dataclasses.replace(sc, scenario=dataclasses.replace(sc.scenario, duration_s=2.5))
     if by_ecu:
         calls = iter(range(10**6))
-        monkeypatch.setattr(ecu.node, "steering_message", lambda counter: request(counter, next(calls)))
+        monkeypatch.setattr(ecu.node, "steering_message", lambda outputs, counter: request(counter, next(calls)))
     loop = ClosedLoop(sc, fmu, ecu=EcuOptions(authenticate=True))
     forger, seq, forged = SecOcSender(bytes(16)), CounterSequence(), []
     collect, step, slave = loop.link.collect, loop.plant.step, loop.plant._fmu

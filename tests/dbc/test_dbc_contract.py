@@ -10,6 +10,7 @@ EXPECTED = {
     "DriverInput": (0x0B0, "DRIVER", 10),
     "ObjectTrack": (0x0C0, "RADAR", 50),
     "EcuStatus": (0x3A0, "ECU", 100),
+    "EcuRegionStatus": (0x3A8, "ECU", 100),
     "EcuIdentity": (0x3B0, "ECU", 1000),
     "SimClock": (0x7F0, "SIM", 10),
     "SteeringOverride": (0x094, "ECU", 10),
@@ -64,7 +65,7 @@ def test_e2e_header_layout():
 
 def test_secoc_authenticators():
     """Each protected message has an authenticator at ID + 1: 16-bit freshness, 48-bit MAC, same cycle."""
-    assert set(AUTHENTICATORS) == set(EXPECTED) - {"EcuStatus"}
+    assert set(AUTHENTICATORS) == set(EXPECTED) - {"EcuStatus", "EcuRegionStatus"}
     for name, auth_id in AUTHENTICATORS.items():
         protected = DATABASE.get_message_by_name(name)
         auth = DATABASE.get_message_by_frame_id(auth_id)

@@ -9,11 +9,15 @@ cycle's state, outputs and :func:`ecu.core.plan_cycle` as a digest of their
 exact text (every float by ``repr``, every value with its type), and the
 outputs' decisions in full. ``test_step_golden.py`` compares them with those
 recorded from the core (``data/step_golden.npz``; see that test for its history).
+The planar fields added by issue 22 (:data:`PLANAR_DEFAULTS`) are not in the
+digest: these drives carry no planar tracks, so every cycle must hold their
+values of a run without them, which :func:`recorded` asserts.
 """
 
 from __future__ import annotations
 
 import hashlib
+from collections import namedtuple
 import math
 import random
 from typing import Callable, Iterator
@@ -87,6 +91,29 @@ def exact(value: object) -> str:
     return f"{type(value).__name__}:{value!r}"
 
 
+#: the planar fields (issue 22) and their values without planar tracks or steering authority: these drives have
+#: neither, so every cycle must hold them; the digest covers the fields recorded before them
+PLANAR_DEFAULTS = {"steer_curvature_1pm": "None", "steer_request_rad": "0.0", "steer_active": "False",
+                   "region": "None"}
+
+
+def recorded(record: tuple) -> tuple:
+    """``record`` without its planar fields, after checking that each holds its value of a run without them."""
+    fields = record._fields
+    for name, default in PLANAR_DEFAULTS.items():
+        if name in fields:
+            value = getattr(record, name)
+            assert repr(value) == default, f"{type(record).__name__}.{name} = {value!r} in a drive without tracks"
+    legacy = _LEGACY.get(type(record))
+    if legacy is None:  # a record type of the same name with the fields recorded before issue 22
+        legacy = _LEGACY[type(record)] = namedtuple(type(record).__name__,
+                                                    [name for name in fields if name not in PLANAR_DEFAULTS])
+    return legacy._make(v for name, v in zip(fields, record) if name not in PLANAR_DEFAULTS)
+
+
+_LEGACY: dict[type, type] = {}
+
+
 def record_drive(strategy: str, noise: float, step: Callable, plan_cycle: Callable) -> tuple[np.ndarray, np.ndarray]:
     """Every cycle's (state, outputs, plan_cycle(true speed, inputs)): (8-byte BLAKE2b digests of their
     :func:`exact` text, uint64 [cycles]; the :data:`DECISIONS` fields of the outputs, float64 [cycles, 7])."""
@@ -96,7 +123,7 @@ def record_drive(strategy: str, noise: float, step: Callable, plan_cycle: Callab
         if k == 0:
             state = CoreState()
         state, outputs = step(state, inputs, params)
-        text = exact((state, outputs, plan_cycle(speed, inputs, params)))
+        text = exact((recorded(state), recorded(outputs), plan_cycle(speed, inputs, params)))
         digests.append(int.from_bytes(hashlib.blake2b(text.encode(), digest_size=8).digest(), "little"))
         decisions.append([float(getattr(outputs, name)) for name in DECISIONS])
     return np.array(digests, dtype=np.uint64), np.array(decisions, dtype=np.float64)

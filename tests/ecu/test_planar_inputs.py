@@ -1,9 +1,10 @@
 """The ECU and the planar frames, as its equipment says (ecu.equipment): equipped with the planar
-sensors it receives, checks and counts EscDynamics and the RadarTrack slots (latching them in SI;
-the core does not use them yet); with steering authority it sends SteeringOverride pass-through
-(SteerActive 0) every cycle, authenticated when keyed. A longitudinal ECU (the default) takes
-neither planar frame (each counted as an unknown frame, nothing latched) and sends no
-SteeringOverride; a planar ECU without steering authority takes them and sends none either."""
+sensors it receives, checks and counts EscDynamics and the RadarTrack slots (latching them in SI for
+the stopping region, ecu.core.planar); with steering authority it sends SteeringOverride every cycle
+(pass-through, SteerActive 0, unless a steering contingency is held), authenticated when keyed. A
+longitudinal ECU (the default) takes neither planar frame (each counted as an unknown frame, nothing
+latched) and sends no SteeringOverride; a planar ECU without steering authority takes them and sends none
+either."""
 
 import math
 import uuid
@@ -69,7 +70,7 @@ def test_ecu_receives_the_planar_frames_and_sends_steering_pass_through():
     assert len(steering) == 20 and rx.stats["authenticated"] == 20
     assert all(f.signals == {"SteerActive": 0, "SteerAngleRequest": 0.0} for f in steering)
     assert LAYOUTS["SteeringOverride"].frame_id == 0x094
-    assert _sent_names(sent) == {"SafetyOverride", "SteeringOverride", "EcuStatus"}
+    assert _sent_names(sent) == {"SafetyOverride", "SteeringOverride", "EcuStatus", "EcuRegionStatus"}
 
 
 @pytest.mark.parametrize("equipment, sensors", [("longitudinal", False), ("planar", True)])
@@ -78,7 +79,8 @@ def test_the_frames_follow_the_equipment(equipment, sensors):
     the ECU is equipped with the planar sensors, so takes EscDynamics and the slots)."""
     node, sent = _drive(equipment)
     stats, latch = node.stats, node._latch
-    assert _sent_names(sent) == {"SafetyOverride", "EcuStatus"}  # no SteeringOverride without authority
+    # no SteeringOverride without authority; the region's status with the planar sensors
+    assert _sent_names(sent) == {"SafetyOverride", "EcuStatus", *(["EcuRegionStatus"] if sensors else [])}
     assert not any(m.arbitration_id in (0x094, 0x095) for m in sent)
     if sensors:
         assert stats["good"] == 20 * 3 + 4 * 9 == stats["authenticated"] and "UnknownFrame" not in stats

@@ -1,6 +1,6 @@
 """The stopping region in the plane (issue 22, item 1): pure geometry and the contingency choice.
 
-No I/O, no clock; numpy for the vectorised overlap. Not yet wired into :func:`ecu.core.step`.
+No I/O, no clock; numpy for the vectorised overlap. Wired into :func:`ecu.core.step` by :mod:`ecu.core.planar`.
 Modules, in the order of the flow: ``params`` (geometry, limits, object capabilities, with
 sources), ``paths`` (the followable paths and their stopping paths), ``objects`` (what the other
 tracks occupy), ``overlap`` (footprints and separations), ``road`` (lanes and the road's bounds),

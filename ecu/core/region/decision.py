@@ -13,8 +13,9 @@ would not be. The choice, in the issue's order:
 4. ``LEAST_IMPACT``: none is disjoint: of the lane row and the admissible steering rows, the one
    whose first contact comes at the lowest speed (:func:`ecu.core.region.overlap.speed_at_mps`).
 
-Without a road every steering row is admissible. The contingency kinds are our own enumeration; the
-DBC has no signal for them yet (the frame that reports them belongs to the ECU's wiring).
+Without a road every steering row is admissible; without steering authority (``steer=False``) none is,
+and rule 4 takes the lane row. The contingency kinds are the DBC's ``EcuRegionStatus.Contingency``
+values (its ``VAL_`` adds ``NOT_EVALUATED``, sent without planar tracks; a test keeps the two equal).
 """
 
 from __future__ import annotations
@@ -60,6 +61,8 @@ class RegionDecision(NamedTuple):
     paths: PathSet
     box: Footprint
     objects: ObjectSet
+    #: the chosen path is a steering row (STEER_AND_BRAKE, or LEAST_IMPACT on a steering row)
+    steering: bool = False
 
 
 def clearances(paths: PathSet, objects: ObjectSet, box: Footprint) -> tuple[np.ndarray, np.ndarray]:
@@ -102,13 +105,23 @@ def admissible_steering(paths: PathSet, box: Footprint, objects: ObjectSet, road
     return paths.feasible & on_road(road, corner_points(paths, box), span)
 
 
-def _result(kind: Contingency, row: int, ctx: tuple, clearance: np.ndarray, impact: float) -> RegionDecision:
+def _result(kind: Contingency, row: int, ctx: tuple, clearance: np.ndarray, impact: float,
+            steering: bool = False) -> RegionDecision:
     """The decision for ``row`` of ``ctx``'s paths; ``clearance[DRIVER]`` and the driver's distance from the base."""
     paths, box, objects, params, base = ctx
     decel = 0.0 if kind is Contingency.DRIVER_PATH else contingency_decel_mps2(paths, row, params)
     return RegionDecision(kind, row, float(paths.curvature_1pm[row]), decel, float(clearance[row]), impact,
                           float(paths.stop_m[row]), base.driver_disjoint, base.driver_stopping_distance_m,
-                          base.proximity, paths, box, objects)
+                          base.proximity, paths, box, objects, steering)
+
+
+def _lane_least_impact(params: RegionParams, base: RegionDecision, lane_per_pose: np.ndarray) -> RegionDecision:
+    """Rule 4 on the lane row alone: braking in lane, its first contact's speed."""
+    lane_speed = float(impact_speeds_mps(base.paths, lane_per_pose)[LANE])
+    lane_clearance = np.full(base.paths.curvature_1pm.shape, base.clearance_m)
+    lane_clearance[LANE] = float(lane_per_pose[LANE].min())
+    return _result(Contingency.LEAST_IMPACT, LANE, (base.paths, base.box, base.objects, params, base),
+                   lane_clearance, lane_speed)
 
 
 def _steer_or_least_impact(ego: EgoState, road: Road | None, params: RegionParams,
@@ -122,20 +135,19 @@ def _steer_or_least_impact(ego: EgoState, road: Road | None, params: RegionParam
     disjoint = ok & (clearance >= 0.0)
     if disjoint.any():
         row = int(np.argmax(np.where(disjoint, clearance, -np.inf)))
-        return _result(Contingency.STEER_AND_BRAKE, row, ctx, clearance, 0.0)
+        return _result(Contingency.STEER_AND_BRAKE, row, ctx, clearance, 0.0, steering=True)
     speeds = np.where(ok, impact_speeds_mps(paths, per_pose), np.inf)
     lane_speed = float(impact_speeds_mps(base.paths, lane_per_pose)[LANE])
     row = int(np.argmin(speeds))
     if speeds[row] < lane_speed:
-        return _result(Contingency.LEAST_IMPACT, row, ctx, clearance, float(speeds[row]))
-    lane_clearance = np.full(base.paths.curvature_1pm.shape, base.clearance_m)
-    lane_clearance[LANE] = float(lane_per_pose[LANE].min())
-    return _result(Contingency.LEAST_IMPACT, LANE, (base.paths, base.box, base.objects, params, base),
-                   lane_clearance, lane_speed)
+        return _result(Contingency.LEAST_IMPACT, row, ctx, clearance, float(speeds[row]), steering=True)
+    return _lane_least_impact(params, base, lane_per_pose)
 
 
-def decide(ego: EgoState, tracks: Sequence[TrackBox], road: Road | None, params: RegionParams) -> RegionDecision:
-    """The rules of the module docstring; the steering rows are built only when rules 1 and 2 fail."""
+def decide(ego: EgoState, tracks: Sequence[TrackBox], road: Road | None, params: RegionParams,
+           steer: bool = True) -> RegionDecision:
+    """The rules of the module docstring; the steering rows are built only when rules 1 and 2 fail, and only
+    with ``steer`` (steering authority)."""
     objects = object_set(tracks, ego.speed_mps, params)
     paths = path_family(ego, 0.0 if road is None else road.curvature_1pm, params, steering=False)
     box = footprint(paths, params)
@@ -149,4 +161,6 @@ def decide(ego: EgoState, tracks: Sequence[TrackBox], road: Road | None, params:
         return base
     if clearance[LANE] >= 0.0 and paths.feasible[LANE]:
         return _result(Contingency.BRAKE_IN_LANE, LANE, (paths, box, objects, params, base), clearance, 0.0)
+    if not steer:
+        return _lane_least_impact(params, base, per_pose)
     return _steer_or_least_impact(ego, road, params, base, per_pose)

@@ -1,0 +1,124 @@
+"""The stopping region in the ECU's cycle (issue 22): what the plane adds to the 1-D decision.
+
+The 1-D core (:mod:`ecu.core.plan`) judges the one ``ObjectTrack`` on its line, as before. With
+planar tracks in the inputs (``RadarTrack`` slots; none: this module does nothing), each cycle:
+
+1. **Ego**: the speed estimate, the command the 1-D plan bounds (``min(a_drv, a_hi)``), the
+   model deceleration D, ``EscDynamics``'s yaw rate and the driver's road-wheel angle
+   (``SteeringWheelAngle / steering_ratio``).
+2. **Tracks** (:class:`can_dbc.planar.Track`) become :class:`~ecu.core.region.TrackBox` es with
+   ``track_position_sigma_m``.
+3. **Road**: the contract carries no lanes, so the ECU assumes its own (``lane_width_m``, centred
+   on the ego, following its current curvature) and ``free_lanes_left`` / ``free_lanes_right``
+   beside it (:func:`assumed_road`); a steering path stays within them and out of any holding a
+   track's centre (UN R79 ESF, :mod:`ecu.core.region.road`).
+4. **Decision** over every track (:func:`ecu.core.region.decide`), steering rows only with
+   ``steering_authority``: reported in ``EcuRegionStatus`` and, in a contingency, the steering
+   path (:mod:`ecu.core.steering`).
+5. **What it adds to braking**: the driver's stopping path must also be disjoint from every track
+   the line does not judge (:func:`line_track`: the 1-D object, when it is relevant, is the line's).
+   Only when the decision over every track is not disjoint is that second check run (a subset of
+   disjoint objects is disjoint).
+
+So a run whose only track is the 1-D object in our path is decided by the 1-D core alone; an
+object off the path, standing, cannot touch the straight stopping path of a car whose wheel is
+straight (its nearest point is more than ``vehicle_width_m / 2 + path_margin_m`` = 1.91 m off the
+axis, the footprint's half width is 1.01 m, the inflation 3 sigma = 0.51 m); a moving one off the
+path adds a contingency when its own stopping region reaches the driver's stopping path.
+The region's proximity is reported, not used: the throttle bound stays the 1-D strategy's (a car
+in the next lane would otherwise bound the throttle).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple, Sequence
+
+from can_dbc.planar import Track
+
+from .intent import driver_accel_mps2
+from .params import CoreParams
+from .plan import Plan
+from .relevance import in_path
+from .region import EgoState, RegionDecision, Road, TrackBox, decide
+from .region.paths import current_curvature
+from .types import CoreInputs, RegionReport
+
+
+class RegionCycle(NamedTuple):
+    """One cycle's region: the ego as the region saw it, the decision over every track, and whether the
+    driver's stopping path is disjoint from the tracks the 1-D line does not judge."""
+
+    ego: EgoState
+    decision: RegionDecision
+    off_axis_disjoint: bool
+
+
+def ego_state(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams) -> EgoState:
+    """Step 1 of the module docstring."""
+    bound = params.strategy_rules.tighten(plan.proximity, params).accel_upper_mps2
+    command = min(driver_accel_mps2(inputs.accel_pedal, inputs.brake_pedal, params), bound)
+    return EgoState(speed_mps, command, decel_mps2, inputs.yaw_rate_radps,
+                    inputs.steering_wheel_rad / params.steering_ratio)
+
+
+def track_boxes(tracks: Sequence[Track], sigma_m: float) -> list[TrackBox]:
+    """The contract's tracks as the region's boxes (nearest point, relative velocity, class, sigma)."""
+    return [TrackBox(t.x_m, t.y_m, t.vx_mps, t.vy_mps, t.size_class, sigma_m) for t in tracks]
+
+
+def assumed_road(ego: EgoState, params: CoreParams) -> Road:
+    """Our lane centred on the ego and the free lanes beside it, along the current curvature (step 3)."""
+    w = params.lane_width_m
+    right = -0.5 * w - params.free_lanes_right * w
+    count = 1 + params.free_lanes_left + params.free_lanes_right
+    return Road(tuple(right + k * w for k in range(count + 1)), 0.0, current_curvature(ego, params.region))
+
+
+def line_track(tracks: Sequence[Track], inputs: CoreInputs, params: CoreParams) -> int | None:
+    """The index of the track that is the 1-D core's object: the nearest to ``ObjectTrack``'s range and lateral
+    offset, each within ``track_range_tolerance_m``; None when that object is not valid and in our path
+    (:mod:`ecu.core.relevance`; confirmed or not: the line judges it either way) or no track is near it."""
+    if not (inputs.object_valid and in_path(inputs.object_lateral_m, params)):
+        return None
+    tol = params.track_range_tolerance_m
+    best, best_d = None, math.inf
+    for i, t in enumerate(tracks):
+        dx, dy = abs(t.x_m - inputs.object_range_m), abs(t.y_m - inputs.object_lateral_m)
+        if dx <= tol and dy <= tol and dx + dy < best_d:
+            best, best_d = i, dx + dy
+    return best
+
+
+def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams) -> RegionCycle | None:
+    """Steps 1-5 of the module docstring; None without planar tracks."""
+    tracks = inputs.tracks
+    if not tracks:
+        return None
+    ego = ego_state(speed_mps, inputs, plan, decel_mps2, params)
+    boxes = track_boxes(tracks, params.track_position_sigma_m)
+    road = assumed_road(ego, params)
+    decision = decide(ego, boxes, road, params.region, steer=params.steering_authority)
+    off_axis = True
+    if not decision.driver_disjoint and plan.disjoint:
+        line = line_track(tracks, inputs, params)
+        others = boxes if line is None else boxes[:line] + boxes[line + 1:]
+        off_axis = not others or decide(ego, others, road, params.region, steer=False).driver_disjoint
+    return RegionCycle(ego, decision, off_axis)
+
+
+def merged(plan: Plan, region: RegionCycle | None, steering_held: bool) -> Plan:
+    """The 1-D plan with the region's addition: not disjoint (nor released) while an off-axis object's region
+    reaches the driver's stopping path, or while a steering contingency is held (``steering_held``: it brakes to
+    a stop along its path, :mod:`ecu.core.steering`)."""
+    if not steering_held and (region is None or region.off_axis_disjoint):
+        return plan
+    return plan._replace(disjoint=False, released=False)
+
+
+def report(region: RegionCycle | None) -> RegionReport | None:
+    """``EcuRegionStatus``'s values of the decision (None: not evaluated)."""
+    if region is None:
+        return None
+    d = region.decision
+    return RegionReport(int(d.kind), d.proximity, d.curvature_1pm, d.clearance_m, d.stopping_distance_m)
