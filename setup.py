@@ -1,9 +1,9 @@
 """The build's one step beyond pyproject.toml: the ECU core compiled with mypyc (issue 20).
 
 The in-process loop spends about a fifth of its time in ``ecu.core.step``; compiled, the paper loop
-runs at 0.88-0.90 of d2cf42d's speed instead of 0.80 (``benchmarks/bench_inprocess.py``). The
-modules below are the core's pure functions; ``types``, ``params``, ``strategy`` (a runtime-checked
-``Protocol``), the strategies and the region core stay Python. Set ``CRD_PURE_PYTHON=1`` to skip
+runs at 0.89 of d2cf42d's speed instead of 0.80 (``benchmarks/bench_inprocess.py``, 2026-12-02). The
+modules below are the core's functions; ``types``, ``params``, ``strategy`` (a runtime-checked
+``Protocol``), the strategies and the region geometry (numpy) stay Python. Set ``CRD_PURE_PYTHON=1`` to skip
 the compilation; if it fails (no C compiler), the install goes on with the same modules as Python
 and says so. Either way the results are the same (the golden tests run on whichever is installed).
 """
@@ -19,6 +19,7 @@ from setuptools import setup
 CORE = [
     "decel_estimate", "degraded", "intent", "modes", "output_gate", "plan", "plausibility", "proximity",
     "relative_stop", "relevance", "speed_estimate", "step", "stopping_path", "track_confirmation", "validity",
+    "steering", "planar",
 ]
 
 

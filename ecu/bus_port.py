@@ -69,6 +69,7 @@ class InputLatch:
         self.yaw_rate_radps = 0.0
         self._tracks: list[Mapping[str, float] | None] = [None] * len(TRACK_SLOTS)
         self._track_tuple: tuple[Track, ...] | None = ()
+        self._newest_track_t_s = NEVER_S  # the newest slot frame's receive time (no slot frame: never)
         self.rx_t_s = {name: NEVER_S for name in INPUT_MESSAGES}
 
     def ingest(self, frame: Frame, t_s: float) -> bool:
@@ -96,7 +97,7 @@ class InputLatch:
             self.yaw_rate_radps = s["YawRate"] / _DEG_PER_RAD_S
         elif (slot := TRACK_SLOTS.get(name)) is not None:
             self._tracks[slot] = s
-            self._track_tuple = None
+            self._track_tuple, self._newest_track_t_s = None, t_s
         else:
             return False
         self.rx_t_s[name] = t_s
@@ -115,8 +116,7 @@ class InputLatch:
     def live_tracks(self, t_s: float, timeout_s: float) -> tuple[Track, ...]:
         """The tracks of the slots, empty slots left out, in slot order; none once the newest slot frame is older
         than ``timeout_s`` (a radar that fell silent reports no object)."""
-        newest = max(self.rx_t_s[name] for name in TRACK_SLOTS)
-        if t_s - newest > timeout_s:
+        if t_s - self._newest_track_t_s > timeout_s:
             return ()
         if self._track_tuple is None:
             self._track_tuple = tuple(t for t in self.tracks if t is not None)
