@@ -23,12 +23,10 @@ Printed per strategy (medians over the rounds, min..max):
 * ``ratio (CPU time)``: the same over the CPU time of this process (all its threads, so the
   logging thread's work too): what the logging costs in all, wherever it runs; a shared machine
   disturbs it less than the wall time. The x real over CPU time of each side is printed too;
-* ``logging CPU``: CPU time (ms per simulated second) of the logging itself, timed inside the run by
-  thread (``time.thread_time``): in the loop's thread (``RunStream.flush``, ``_stop_all``: the whole
-  writing before the logging thread, the hand-over after) and in the writing thread (``RunStream._write``,
-  where it exists); next to it the loop's own CPU time per simulated second. It does not depend on
-  how busy the machine is nearly as much as the ratios do; the writing thread's share runs beside the
-  loop where it releases the GIL (zlib, the writes) and a core is free;
+* ``logging CPU``: CPU time (ms per simulated second) of the logging itself, timed inside the run
+  (``time.thread_time`` around ``RunStream.flush`` and ``_stop_all``, which write in the loop's own
+  thread); next to it the loop's own CPU time per simulated second. It does not depend on how busy
+  the machine is nearly as much as the ratios do;
 * the load average (1 min) before the first and after the last round, and its highest value
   seen between rounds: on a shared machine, read the wall-time figures with it;
 * ``--with-report``: also ``run_strategies`` (report, plots, ``metrics.json``, config) over
@@ -67,14 +65,13 @@ def loop_only(sc, fmu: Path, strategy: str) -> tuple[float, float, float]:
 
 
 class LoggingCpu:
-    """Within the block, the CPU time (``time.thread_time``) spent in :class:`RunStream`'s writing, by thread:
-    :attr:`loop_s` in ``flush`` and ``_stop_all`` (the loop's thread), :attr:`writer_s` in ``_write`` (the
-    writing thread, where the stream has one)."""
+    """Within the block, the CPU time (``time.thread_time``) spent in :class:`RunStream`'s writing (``flush`` and
+    ``_stop_all``, in the loop's thread): :attr:`loop_s`."""
 
-    WRAPPED = {"flush": "loop_s", "_stop_all": "loop_s", "_write": "writer_s"}
+    WRAPPED = {"flush": "loop_s", "_stop_all": "loop_s"}
 
     def __enter__(self) -> LoggingCpu:
-        self.loop_s = self.writer_s = 0.0
+        self.loop_s = 0.0
         self._saved = {name: getattr(RunStream, name) for name in self.WRAPPED if hasattr(RunStream, name)}
         for name, fn in self._saved.items():
             setattr(RunStream, name, self._timed(fn, self.WRAPPED[name]))
@@ -97,8 +94,7 @@ class LoggingCpu:
 def crd_run(sc, fmu: Path, strategy: str, out: Path) -> tuple[float, ...]:
     """x real of crd run's run with the default logs: by metrics.json's wall_time_s, over the whole
     call's wall time and over its CPU time (every thread of this process); then the logging's CPU time
-    in the loop's thread and in the writing thread, and the loop thread's CPU time but the logging's, in
-    ms per simulated second."""
+    and the loop thread's CPU time but the logging's, in ms per simulated second."""
     with LoggingCpu() as logging_cpu:
         t0, c0, l0 = time.perf_counter(), time.process_time(), time.thread_time()
         record = _run_one(sc, fmu, strategy, out, check_can_logs([]), None, None, plot=False)
@@ -106,8 +102,7 @@ def crd_run(sc, fmu: Path, strategy: str, out: Path) -> tuple[float, ...]:
     m = record.metrics
     per_sim_s = 1e3 / m.sim_time_s
     return (m.sim_time_s / m.wall_time_s, m.sim_time_s / total_s, m.sim_time_s / cpu_s,
-            logging_cpu.loop_s * per_sim_s, logging_cpu.writer_s * per_sim_s,
-            (loop_cpu_s - logging_cpu.loop_s) * per_sim_s)
+            logging_cpu.loop_s * per_sim_s, (loop_cpu_s - logging_cpu.loop_s) * per_sim_s)
 
 
 def whole_command(sc, strategy: str, out: Path) -> float:
@@ -133,7 +128,7 @@ def one_round(sc, fmu: Path, strategies, figures: dict, with_report: bool, loop_
             figures.setdefault((strategy, "ratio cpu"), []).append(run_cpu_x / loop_cpu_x)
             figures.setdefault((strategy, "loop cpu"), []).append(loop_cpu_x)
             figures.setdefault((strategy, "run cpu"), []).append(run_cpu_x)
-            for key, ms in zip(("log loop ms", "log writer ms", "loop ms"), logging_ms):
+            for key, ms in zip(("log loop ms", "loop ms"), logging_ms):
                 figures.setdefault((strategy, key), []).append(ms)
             if with_report:
                 command_x = whole_command(sc, strategy, Path(tmp) / "command")
@@ -155,13 +150,11 @@ def report(figures: dict, strategies, rounds: int, with_report: bool, loads: lis
     print(f"{'strategy':<13}" + "".join(f"{title:>24}" for title, _, _ in columns))
     for s in strategies:
         print(f"{s:<13}" + "".join(f"{_spread(figures[(s, key)], fmt):>24}" for _, key, fmt in columns))
-    print("CPU ms per simulated second in crd run (medians): logging in the loop's thread + in the writing thread; "
-          "the loop's thread without its logging")
+    print("CPU ms per simulated second in crd run (medians): the logging; the loop's thread without its logging")
     for s in strategies:
-        loop_ms, writer_ms, rest_ms = (statistics.median(figures[(s, k)]) for k in
-                                       ("log loop ms", "log writer ms", "loop ms"))
-        print(f"{s:<13}logging {loop_ms:6.2f} + {writer_ms:6.2f} ms, loop {rest_ms:7.1f} ms: logging "
-              f"{loop_ms / rest_ms:.1%} + {writer_ms / rest_ms:.1%} of the loop's CPU time")
+        log_ms, rest_ms = (statistics.median(figures[(s, k)]) for k in ("log loop ms", "loop ms"))
+        print(f"{s:<13}logging {log_ms:6.2f} ms, loop {rest_ms:7.1f} ms: logging {log_ms / rest_ms:.1%} of the "
+              f"loop's CPU time")
     worst = min(strategies, key=lambda s: statistics.median(figures[(s, "ratio")]))
     print(f"lowest ratio ({worst}): crd run / loop only = {statistics.median(figures[(worst, 'ratio')]):.3f} by "
           f"metrics.json's wall time, {statistics.median(figures[(worst, 'ratio closed')]):.3f} to the logs closed, "

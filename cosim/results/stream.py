@@ -9,23 +9,24 @@
   (all but MF4, which asammdf writes at the end) as the run goes:
   :meth:`RunStream.flush` (called every 100 ECU cycles, i.e. every simulated
   second) appends the rows and frames recorded since the last
-  call and hands them to the operating system (from its writing thread, behind by
-  the :data:`~cosim.results.log_thread.QUEUE_DEPTH` seconds queued and the one being
-  written at most), so a run killed at any moment (even SIGKILL) leaves its files
-  complete up to a recent simulated second. :meth:`close`
+  call and hands them to the operating system, so a run killed at any moment
+  (even SIGKILL) leaves its files complete up to the last simulated second. :meth:`close`
   writes the rest and closes the files (the BLF header gets its statistics).
   The rows and frames stay in the :class:`RunRecord` too (the metrics, plots
   and tests use them).
 
-What it costs (issue 25; ``benchmarks/bench_logging.py``): :meth:`RunStream.flush` only hands
-the new rows and frames (slices of the record) to a :class:`~cosim.results.log_thread.LogThread`,
-which formats, packs, compresses and writes them on a background thread, in order, from a bounded
-queue; :meth:`close` waits until everything handed over is written. The BLF gets each batch of
-frames as one array of BLF objects, no ``can.Message`` per frame, and compresses its containers at
-zlib level 1 (:class:`~cosim.results.can_logs.FrameBlfWriter`); the time series is formatted with
-one ``%`` per row (:func:`~cosim.results.writer.timeseries_lines`). Other log formats take
-python-can's writers frame by frame, on the same thread. The files are byte for byte those the
-loop's own thread wrote (``tests/cosim/test_log_thread.py``).
+What it costs (issue 25; ``benchmarks/bench_logging.py``): :meth:`RunStream.flush` writes the new
+rows and frames (slices of the record) in the loop's own thread, a simulated second at a time. The
+BLF gets each batch of frames as one array of BLF objects, no ``can.Message`` per frame, and
+compresses its containers at zlib level 1 (:class:`~cosim.results.can_logs.FrameBlfWriter`); the
+time series is formatted with one ``%`` per row (:func:`~cosim.results.writer.timeseries_lines`).
+Other log formats take python-can's writers frame by frame. Measured on 2026-12-02 (quiet machine,
+the same run of the benchmark): ``crd run`` at 0.98 of the loop alone this way, against 0.72-0.76
+with the writing on a background thread (issue 25's first design): the thread's formatting and
+packing hold the GIL in turns with the loop, and the hand-overs between the two threads cost more
+than the writing itself (about 12 % of the loop's CPU time). A write that fails (a full disk) stops
+the run with :class:`LogWriteError`, naming the run's directory and the cause, and what was written
+before is kept (``tests/cosim/test_log_writer.py``).
 """
 
 from __future__ import annotations
@@ -39,12 +40,15 @@ from typing import Iterable, Sequence
 import can
 from can.io.generic import FileIOMessageWriter
 
-from ..errors import ConfigError
+from ..errors import ConfigError, CosimError
 from .can_logs import FrameBlfWriter, open_python_can_writer, streamed, write_can_logs
 from .held_signals import signals_held
-from .log_thread import LogThread
 from .run_record import TIMESERIES_COLUMNS, RunRecord
 from .writer import timeseries_lines
+
+
+class LogWriteError(CosimError, RuntimeError):
+    """A run's logs could not be written (the cause: the exception the write met)."""
 
 
 def check_out_dir(out_dir: Path, subdirs: Iterable[str] = ()) -> None:
@@ -86,30 +90,31 @@ class RunStream:
                     self._writers.append(open_python_can_writer(run_dir / name, start))
             self._blf = [w for w in self._writers if isinstance(w, FrameBlfWriter)]  # BLF: in bulk
             self._per_message = [w.on_message_received for w in self._writers if not isinstance(w, FrameBlfWriter)]
-            self._thread: LogThread[tuple[list, list, tuple]] = LogThread(self._write, str(run_dir))
         except BaseException:
             self._stop_all()
             raise
-        self.closed = False
+        self.closed = self._failed = False
 
     def flush(self, record: RunRecord) -> None:
-        """Hand ``record``'s rows and frames added since the last call to the writing thread, which writes
-        them and passes them to the OS; raises :class:`~cosim.results.log_thread.LogWriteError` if a write failed.
+        """Write ``record``'s rows and frames added since the last call and pass them to the OS; raises
+        :class:`LogWriteError` if the write fails (once: after it, nothing more is written).
 
-        A signal meanwhile is held until the hand-over is whole (:mod:`cosim.results.held_signals`).
+        A signal meanwhile is held until the write is whole (:mod:`cosim.results.held_signals`).
         """
-        with signals_held():
-            self._hand_over(record)
-
-    def _hand_over(self, record: RunRecord) -> None:
+        if self._failed:
+            return
         rows, frames = record.rows, record.frames
-        batch = (rows[self._rows:], frames[self._frames:], record.columns)  # new lists of the same rows and frames
+        new_rows, new_frames = rows[self._rows:], frames[self._frames:]
         self._rows, self._frames = len(rows), len(frames)
-        self._thread.put(batch)
+        with signals_held():
+            try:
+                self._write(new_rows, new_frames, record.columns)
+            except Exception as exc:  # noqa: BLE001 - any failed write stops the run, named
+                self._failed = True
+                raise LogWriteError(f"{self._run_dir}: writing the logs failed: {exc}") from exc
 
-    def _write(self, batch: tuple[list, list, tuple]) -> None:
-        """On the writing thread: one batch of rows and frames into every file, passed to the OS."""
-        rows, frames, columns = batch
+    def _write(self, rows: list, frames: list, columns: Sequence[str]) -> None:
+        """One batch of rows and frames into every file, passed to the OS."""
         start_s = self._start_s
         self._csv_file.write(timeseries_lines(rows, columns))
         for blf in self._blf:  # the batch in one array of BLF objects, no can.Message (can_logs.FrameBlfWriter)
@@ -134,11 +139,8 @@ class RunStream:
             return
         self.closed = True
         try:
-            try:
-                if record is not None:
-                    self.flush(record)
-            finally:
-                self._thread.close()  # every batch handed over written, the thread ended
+            if record is not None:
+                self.flush(record)
         finally:
             self._stop_all()
         if record is not None and self._at_end:

@@ -1,18 +1,13 @@
-"""Issue 25, item 5: a run's logs written on a background thread (:mod:`cosim.results.log_thread`).
+"""Issue 25, item 5: a run's logs written a simulated second at a time as it runs (:mod:`cosim.results.stream`).
 
-The thread adds failure modes of its own, each tested here: a write that fails there (a full
-disk) must stop the run with a one-line error naming it, as a failed write in the loop did, and
-keep what was written; the loop must never wait for ever on a thread that has stopped writing; the
-thread must not take SIGINT/SIGTERM (``signals_held`` in the main thread would no longer hold them).
-And the streamed files are, batch for batch, python-can's and ``csv``'s own bytes.
+A write that fails (a full disk) stops the run with a one-line error naming it and keeps what was
+written; and the streamed files are, batch for batch, python-can's and ``csv``'s own bytes.
 """
 
 from __future__ import annotations
 
 import errno
 import json
-import signal
-import threading
 from datetime import datetime, timezone
 
 import can
@@ -20,9 +15,8 @@ import pytest
 
 from cosim.cli.main import main as crd
 from cosim.results.can_logs import FrameBlfWriter
-from cosim.results.log_thread import QUEUE_DEPTH, LogThread, LogWriteError
 from cosim.results.run_record import RunMetrics, RunRecord
-from cosim.results.stream import RunStream
+from cosim.results.stream import LogWriteError, RunStream
 from cosim.results.writer import write_timeseries
 from tests.cosim.test_log_cost import START_S, _frames, _per_message
 
@@ -60,26 +54,16 @@ def _disk_full(*_args) -> None:
     raise OSError(errno.ENOSPC, "No space left on device")
 
 
-def test_a_failed_write_is_raised_by_the_next_put_once_and_the_thread_goes_on_taking_batches():
-    failed = threading.Event()
-
-    def write(batch: int) -> None:
-        if batch == 1:
-            failed.set()
-            _disk_full()
-
-    thread = LogThread(write, "out/none")
-    thread.put(0)
-    thread.put(1)
-    assert failed.wait(60), "the writing thread never took the second batch"
-    with pytest.raises(LogWriteError, match=r"^out/none: writing the logs failed: \[Errno 28\] No space left"):
-        thread.put(2)
-    putting = threading.Thread(target=lambda: [thread.put(b) for b in range(3, 3 + 3 * QUEUE_DEPTH)], daemon=True)
-    putting.start()  # more batches than the queue holds: on a writer that stopped taking them, put would block
-    putting.join(60)
-    assert not putting.is_alive(), "put blocked on a writing thread that had failed"
-    thread.close()  # reported once: the run's way out does not raise it again
-    assert not thread._thread.is_alive()
+def test_a_failed_write_is_raised_once_and_nothing_more_is_written(tmp_path, monkeypatch):
+    record = RunRecord("none", RunMetrics("none"), rows=[_row(0)], frames=_frames(30))
+    stream = RunStream(tmp_path / "run", ["can.blf"], START)
+    monkeypatch.setattr(FrameBlfWriter, "add_objects", _disk_full)
+    with pytest.raises(LogWriteError, match=rf"^{tmp_path / 'run'}: writing the logs failed: \[Errno 28\] No space"):
+        stream.flush(record)
+    record.rows.append(_row(1))
+    stream.flush(record)  # reported once: the run's way out does not raise it again, and writes nothing more
+    stream.close(record)
+    assert (tmp_path / "run" / "timeseries.csv").read_text().count("\n") == 2  # the header and the first row
 
 
 def test_a_write_that_fails_in_the_last_batch_is_raised_by_close_and_the_files_are_closed(tmp_path, monkeypatch):
@@ -88,18 +72,9 @@ def test_a_write_that_fails_in_the_last_batch_is_raised_by_close_and_the_files_a
     stream = RunStream(tmp_path / "run", ["can.blf"], START)
     with pytest.raises(LogWriteError, match="No space left on device"):
         stream.close(record)
-    assert stream._csv_file.closed and not stream._thread._thread.is_alive()
+    assert stream._csv_file.closed
     assert (tmp_path / "run" / "timeseries.csv").read_text().count("\n") == 2  # written before the BLF failed
     stream.close(record)  # idempotent
-
-
-def test_the_writing_thread_leaves_sigint_and_sigterm_to_the_main_thread(tmp_path):
-    masks = []
-    thread = LogThread(lambda _batch: masks.append(signal.pthread_sigmask(signal.SIG_BLOCK, [])), "x")
-    thread.put(None)
-    thread.close()
-    assert {signal.SIGINT, signal.SIGTERM} <= masks[0]
-    assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, [])  # the main thread's own mask restored
 
 
 SCENARIO = '[scenario]\nduration_s = 6.0\n[object]\nposition_m = 80.0\n[ecu]\nstrategy = "none"\n'
