@@ -126,4 +126,6 @@ BLOCKS: dict[str, Generator] = {
                                    True),
     "adaptive-friction": Generator(results.adaptive_friction, "the paper and a CCRs run on wetter roads", True),
     "matrix-summary": Generator(results.matrix_summary, "CATALOGUE...: crd matrix's summary lines", True),
+    "matrix-table": Generator(results.matrix_table, "CATALOGUE...: crd matrix as a table, catalogue x strategy",
+                              True),
 }

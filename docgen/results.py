@@ -147,3 +147,28 @@ def matrix_summary(args: tuple[str, ...], runs: Runs) -> str:
         raise ValueError("expected one or more catalogue names")
     catalogues, rows = runs.matrix(tuple(args), tuple(REQUIRED))
     return "\n".join(["```text", *summary_lines(catalogues, rows), "```"])
+
+
+def matrix_table(args: tuple[str, ...], runs: Runs) -> str:
+    """``crd matrix CATALOGUE...`` as one Markdown table: a row per catalogue, a column per paper strategy, each
+    cell the cells that meet their requirement and the scoring's headline (NCAP points, interventions, contacts)."""
+    import re
+
+    from cosim.matrix.scorings import scoring_named
+    from cosim.results.paper_claims import REQUIRED
+
+    if not args:
+        raise ValueError("expected one or more catalogue names")
+    catalogues, rows = runs.matrix(tuple(args), tuple(REQUIRED))
+    headline = re.compile(r"NCAP ([\d.]+/[\d.]+) pts|(interventions \d+)|(contacts \d+)")
+    lines = ["| catalogue | " + " | ".join(f"`{s}`" for s in REQUIRED) + " |", "|---|" + "---|" * len(REQUIRED)]
+    for cat in catalogues:
+        cells = []
+        for s in REQUIRED:
+            mine = [r for r in rows if r["catalogue"] == cat.name and r["strategy"] == s]
+            met = sum(bool(r["passed"]) for r in mine)
+            found = headline.search(scoring_named(cat.scoring).summary(mine, cat.scoring_table))
+            extra = "" if found is None else ", " + (f"{found[1]} points" if found[1] else found[2] or found[3])
+            cells.append(f"{met}/{len(mine)} met{extra}")
+        lines.append(f"| `{cat.name}` | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
