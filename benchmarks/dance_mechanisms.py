@@ -154,7 +154,7 @@ def patched(gateway_cls=Gateway, reaction_s: float | None = None, radar_cls=Rada
     make = master.make_driver
     master.Gateway, master.RadarModel = gateway_cls, radar_cls
     if reaction_s is not None:
-        master.make_driver = lambda cfg: ReactingDriver(cfg.accel_pedal_pct, reaction_s)
+        master.make_driver = lambda cfg, seed=0: ReactingDriver(cfg.accel_pedal_pct, reaction_s)
     try:
         yield
     finally:

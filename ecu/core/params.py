@@ -224,7 +224,8 @@ class CoreParams:
             "of the radar data sheet (track_range_tolerance_m) taken as 3 sigma; the region inflates objects by 3 sigma")
     track_speed_tolerance_mps: float = setting(
         0.5, unit="m/s", allowed=Range(0.0, 20.0),
-        doc="the stopping region counts a RadarTrack as moving above moving_object_speed_mps plus this: its relative "
+        doc="the stopping region (and the lead's stopping region behind an ObjectTrack, ecu.core.relative_stop) counts "
+            "an object as moving above moving_object_speed_mps plus this: its relative "
             "velocity is the radar's, a radar latency old (0.1 s), while the ego's speed is this cycle's; at the "
             "driver's 5 m/s^2 they are 0.5 m/s apart (measured: a car parked beside a curve read 0.51 m/s)")
     lane_width_m: float = setting(

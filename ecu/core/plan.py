@@ -24,7 +24,8 @@ from typing import NamedTuple
 from .intent import driver_accel_mps2
 from .params import CoreParams
 from .proximity import proximity
-from .relative_stop import clear_of_lead_m, is_moving, moving_proximity, relative_approach_m, relative_disjoint
+from .relative_stop import (clear_of_lead_m, is_moving, lead_region_applies, moving_proximity, relative_approach_m,
+                            relative_disjoint)
 from .relevance import in_path
 from .stopping_path import is_disjoint, stopping_distance_m
 from .types import CoreInputs
@@ -72,7 +73,8 @@ def plan(speed_mps: float, inputs: CoreInputs, relevant: bool, decel_mps2: float
     ratio = params.contingency_release_ratio
     if moving:  # clear of the object's path at constant speed and, while closing, of its own stopping region
         distance = relative_approach_m(rate, command, params, decel_mps2)
-        clear = rate >= 0.0 or clear_of_lead_m(speed_mps, command, range_m, rate, params, decel_mps2) >= 0.0
+        clear = (not lead_region_applies(speed_mps, rate, params)
+                 or clear_of_lead_m(speed_mps, command, range_m, rate, params, decel_mps2) >= 0.0)
         disjoint = clear and relative_disjoint(distance, range_m, params)
         release = clear and relative_disjoint(distance * ratio, range_m, params)
     else:

@@ -6,9 +6,11 @@ state carries the driven wheels' lead and the cycles since the accelerator; 14 o
 the 38,400 cycles decided otherwise), and track confirmation (with
 ``track_confirm_reports`` 1 every cycle decided as before, with the default 3,
 837 did not); and for issue 22 (behind a moving object that closes in, our stopping path must
-also stay clear of the object's own stopping region, :mod:`ecu.core.relative_stop`: 11 of the 16
-drives differ, each first at a cycle where the object moves and closes, at the ECU's speed
-estimate or at the true speed :func:`ecu.core.plan_cycle` is called with); returned over the seeded drives of :mod:`.drives`:
+also stay clear of the object's own stopping region, :mod:`ecu.core.relative_stop`, when the object
+moves faster than 1.0 m/s: each drive that differs does so first at a cycle where the object moves and
+closes, at the ECU's speed estimate or at the true speed :func:`ecu.core.plan_cycle` is called with;
+the paper run and every standing-target cell of the 1-D catalogues are unchanged); returned over the
+seeded drives of :mod:`.drives`:
 every strategy, four input-noise rates (forged, timed-out, future-stamped,
 E2E-invalid, receiver-flagged and non-finite inputs among them) and four
 parameter variants, 600 cycles each. Per cycle it keeps an 8-byte digest of
