@@ -125,6 +125,11 @@ class CoreParams:
     moving_object_speed_mps: float = setting(
         0.5, unit="m/s", allowed=Range(0.0, 100.0),
         doc="an object faster than this (absolute, along our path) counts as moving")
+    lead_region_speed_mps: float = setting(
+        6.0, unit="m/s", allowed=Range(0.0, 100.0),
+        doc="behind a closing object faster than this, our stopping path must also end short of the object's own "
+            "stopping region (ecu.core.relative_stop): above the few m/s a standing object reads through the "
+            "radar's latency and a tracker's lag (docs/investigations.md), so standing targets keep their results")
     standstill_speed_mps: float = setting(
         0.1, unit="m/s", allowed=Range(0.0, 10.0),
         doc="below this estimated speed the car counts as stopped (releases a held contingency)")
@@ -224,8 +229,7 @@ class CoreParams:
             "of the radar data sheet (track_range_tolerance_m) taken as 3 sigma; the region inflates objects by 3 sigma")
     track_speed_tolerance_mps: float = setting(
         0.5, unit="m/s", allowed=Range(0.0, 20.0),
-        doc="the stopping region (and the lead's stopping region behind an ObjectTrack, ecu.core.relative_stop) counts "
-            "an object as moving above moving_object_speed_mps plus this: its relative "
+        doc="the stopping region counts a RadarTrack as moving above moving_object_speed_mps plus this: its relative "
             "velocity is the radar's, a radar latency old (0.1 s), while the ego's speed is this cycle's; at the "
             "driver's 5 m/s^2 they are 0.5 m/s apart (measured: a car parked beside a curve read 0.51 m/s)")
     lane_width_m: float = setting(

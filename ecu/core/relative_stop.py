@@ -29,11 +29,14 @@ and our command's stopping path to standstill (:func:`ecu.core.stopping_path.sto
 at the model D) must stay clear of it: ``d + standoff <= r + s_lead``. While the gap closes
 (``r_dot < 0``) both checks must hold; while it opens, the first alone (as above: braking cannot
 make an opening gap safer, so a contingency is not held on behind a faster car). The second applies
-to an object that moves by more than the track's speed tolerance beyond the moving threshold
-(``moving_object_speed_mps + track_speed_tolerance_mps``, 1.0 m/s): the radar's 0.1 s latency
-against this cycle's speed estimate makes a standing object read up to about 0.5 m/s while the car
-accelerates, and a standing object's results stay those of the standing checks (tested on every
-standing-target cell of the 1-D catalogues and on the paper run).
+to an object faster than ``lead_region_speed_mps`` (6 m/s). A standing object never reads that fast:
+the radar's latency against this cycle's speed estimate (up to 0.3 s x 5 m/s^2 in the studies of
+docs/investigations.md) and a tracker's lag make it read a few m/s at most, so a standing object's
+results stay those of the standing checks (the paper run, every standing-target cell of the 1-D
+catalogues, the bundled sweeps and the dance study: unchanged). The price: a lead that has braked
+below 6 m/s is judged at constant speed again, and ``none`` and ``conservative``, which do not
+tighten, still hit the bundled ``braking_lead`` (12 m behind a lead braking at 6 m/s^2). A latch on
+the track (seen faster than that, judged by its region until the track ends) is the next step.
 Following at equal speeds the second asks for ``r >= v t_h + standoff + v^2 (1/(2D) - 1/(2 peak))``
 (14 m at 130 km/h with D = 0.9 peak: less than Euro NCAP's 1 s headway of CCRb), so it binds only
 when the lead brakes, or when we close on a slower object faster than the first check allows for.
@@ -121,6 +124,5 @@ def clear_of_lead_m(speed_mps: float, accel_mps2: float, range_m: float, range_r
 
 def lead_region_applies(speed_mps: float, range_rate_mps: float, params: CoreParams) -> bool:
     """The object's own stopping region is checked: the gap closes and the object moves faster than
-    ``moving_object_speed_mps + track_speed_tolerance_mps`` (module docstring)."""
-    return range_rate_mps < 0.0 and (speed_mps + range_rate_mps
-                                     > params.moving_object_speed_mps + params.track_speed_tolerance_mps)
+    ``lead_region_speed_mps`` (module docstring)."""
+    return range_rate_mps < 0.0 and speed_mps + range_rate_mps > params.lead_region_speed_mps
