@@ -80,37 +80,40 @@ def _job(strategy: str) -> RunRecord:
     return _record(strategy)
 
 
-def _series(strategies: list[str], records: list[RunRecord], job=_job, seen_b=None) -> list[list[str]]:
+def _series(strategies: list[str], records: list[RunRecord], job=_job, seen=None) -> list[list[str]]:
     """Run ``strategies`` two at a time into ``records``; the strategies of the records at each ``on_record``
-    (``seen_b``: an event set once they include b)."""
-    seen: list[list[str]] = []
+    (``seen``: strategy -> an event set once the records include it)."""
+    taken: list[list[str]] = []
 
     def on_record(record: RunRecord, done: list[RunRecord]) -> None:
         assert record in done
-        seen.append([r.strategy for r in done])
-        if seen_b is not None and "b" in seen[-1]:
-            seen_b.set()
+        taken.append([r.strategy for r in done])
+        for strategy, event in (seen or {}).items():
+            if strategy in taken[-1]:
+                event.set()
 
     run_concurrently(strategies, job, records, on_record, jobs=2)
-    return seen
+    return taken
 
 
 def test_records_come_in_order_whichever_run_ends_first():
-    b_in = multiprocessing.get_context("fork").Event()  # set here, seen by the workers (inherited)
+    fork = multiprocessing.get_context("fork")
+    b_in, a_in = fork.Event(), fork.Event()  # set here, seen by the workers (inherited)
 
     def job(strategy: str) -> RunRecord:
         if strategy == "a":  # a and b go side by side; a ends once b's record is in
             assert b_in.wait(WAIT_S), "b's record did not come in while a ran"
+        if strategy == "c":  # c, started when b ended, ends once a's record is in (else it may come before a)
+            assert a_in.wait(WAIT_S), "a's record did not come in while c ran"
         return _record(strategy)
 
     records: list[RunRecord] = []
-    seen = _series(["a", "b", "c", "d"], records, job, seen_b=b_in)
+    seen = _series(["a", "b", "c", "d"], records, job, seen={"b": b_in, "a": a_in})
     assert [r.strategy for r in records] == ["a", "b", "c", "d"]
     order = ["a", "b", "c", "d"]
     assert all(s == [x for x in order if x in s] for s in seen)  # records so far: always in the strategies' order
-    # b came in alone; a next (c, started when b ended, may have ended before a's record was taken: then
-    # they come in together)
-    assert seen[0] == ["b"] and seen[1][:2] == ["a", "b"] and seen[-1] == order
+    # b came in alone; a next, before c (which waits for it)
+    assert seen[0] == ["b"] and seen[1] == ["a", "b"] and seen[-1] == order
     assert records[0].frames == [LoggedFrame(0.0, 1, b"\x01")] and records[0].rows == [(0.0,)]  # sent back whole
 
 
