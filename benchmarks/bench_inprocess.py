@@ -14,12 +14,11 @@ and the ratio of the medians to the first tree's, with the load average seen bef
 
 from __future__ import annotations
 
-import argparse
 import json
 import subprocess
 from pathlib import Path
 
-from tree_ab import alternate, report
+from tree_ab import alternate, report, tree_arguments
 
 #: what each tree's own interpreter runs: only API that every tree since d2cf42d has
 CHILD = """
@@ -52,13 +51,9 @@ def one_round(tree: Path) -> list[tuple[float, float]]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("trees", nargs="+", type=Path, help="worktrees with a venv; the first is the reference")
-    parser.add_argument("--repeat", type=int, default=5, help="rounds (default 5)")
-    args = parser.parse_args()
-    trees = [t.resolve() for t in args.trees]
-    results = alternate(trees, args.repeat, one_round)
-    report(f"paper loop in process, {args.repeat} alternating rounds x 3 strategies, x real time", trees,
+    trees, repeat = tree_arguments(__doc__.split("\n\n")[0], 5)
+    results = alternate(trees, repeat, one_round)
+    report(f"paper loop in process, {repeat} alternating rounds x 3 strategies, x real time", trees,
            results, digits=1)
 
 

@@ -14,14 +14,13 @@ ratio to the first, and the load average seen before each run (so a noisy run sh
 
 from __future__ import annotations
 
-import argparse
 import resource
 import subprocess
 import tempfile
 import time
 from pathlib import Path
 
-from tree_ab import alternate, report
+from tree_ab import alternate, report, tree_arguments
 
 
 def crd_paper(tree: Path) -> tuple[float, float]:
@@ -40,15 +39,11 @@ def crd_paper(tree: Path) -> tuple[float, float]:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("trees", nargs="+", type=Path, help="worktrees with a venv; the first is the reference")
-    parser.add_argument("--repeat", type=int, default=7, help="rounds (default 7)")
-    args = parser.parse_args()
-    trees = [t.resolve() for t in args.trees]
+    trees, repeat = tree_arguments(__doc__.split("\n\n")[0], 7)
     for tree in trees:
         crd_paper(tree)  # warm up: the FMU cache, the page cache
-    results = alternate(trees, args.repeat, lambda tree: [crd_paper(tree)])
-    report(f"crd paper, {args.repeat} alternating rounds, s", trees, results)
+    results = alternate(trees, repeat, lambda tree: [crd_paper(tree)])
+    report(f"crd paper, {repeat} alternating rounds, s", trees, results)
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ ratio of the medians to the first tree's, with the load average seen before each
 
 from __future__ import annotations
 
+import argparse
 import os
 import statistics
 from pathlib import Path
@@ -46,3 +47,12 @@ def report(title: str, trees: list[Path], results: tuple[dict, dict, list[float]
         rw = statistics.median(wall[tree]) / statistics.median(wall[ref])
         rc = statistics.median(cpu[tree]) / statistics.median(cpu[ref])
         print(f"  {str(tree):<24} wall {spread(wall[tree])} x{rw:.2f}   CPU {spread(cpu[tree])} x{rc:.2f}")
+
+
+def tree_arguments(description: str, repeat: int) -> tuple[list[Path], int]:
+    """The command line both tree benchmarks take: the worktrees (the first the reference) and ``--repeat``."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("trees", nargs="+", type=Path, help="worktrees with a venv; the first is the reference")
+    parser.add_argument("--repeat", type=int, default=repeat, help=f"rounds (default {repeat})")
+    args = parser.parse_args()
+    return [t.resolve() for t in args.trees], args.repeat

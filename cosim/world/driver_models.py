@@ -31,14 +31,14 @@ DriverModel = Callable[[float, float, float], Pedals]
 """``model(t_s, position_m, speed_mps) -> Pedals``."""
 
 
-def full_throttle(cfg: DriverConfig) -> DriverModel:
+def full_throttle(cfg: DriverConfig, seed: int = 0) -> DriverModel:
     """Accelerator held at ``cfg.accel_pedal_pct`` whatever happens; without ``[driver.steering]`` the wheel is
     held straight too: the paper's distracted driver, "asleep at the wheel or distracted by a cell phone"."""
     pedals = Pedals(cfg.accel_pedal_pct, 0.0)
     return lambda t_s, position_m, speed_mps: pedals
 
 
-def cruise(cfg: DriverConfig) -> DriverModel:
+def cruise(cfg: DriverConfig, seed: int = 0) -> DriverModel:
     """Hold ``set_speed_mps`` with a proportional law.
 
     ``u = gain_pct_per_mps * (set_speed_mps - v)``; ``u > 0`` is accelerator,
@@ -52,7 +52,7 @@ def cruise(cfg: DriverConfig) -> DriverModel:
     return model
 
 
-def hold_speed(cfg: DriverConfig, cycle_s: float = ECU_CYCLE_S) -> DriverModel:
+def hold_speed(cfg: DriverConfig, seed: int = 0, cycle_s: float = ECU_CYCLE_S) -> DriverModel:
     """A test robot holding ``set_speed_mps``: PI on speed, accelerator only.
 
     ``e = set_speed_mps - v``; ``I += e * cycle_s`` while the accelerator is not
@@ -83,7 +83,7 @@ def hold_speed(cfg: DriverConfig, cycle_s: float = ECU_CYCLE_S) -> DriverModel:
     return model
 
 
-def scripted(cfg: DriverConfig) -> DriverModel:
+def scripted(cfg: DriverConfig, seed: int = 0) -> DriverModel:
     """Pedals interpolated linearly from the breakpoint table ``cfg.points``.
 
     The abscissa is time (s) or position (m) per ``cfg.over``; values are held
@@ -134,7 +134,8 @@ def reacting(cfg: DriverConfig, seed: int = 0) -> DriverModel:
     return model
 
 
-DRIVER_MODELS: dict[str, Callable[..., DriverModel]] = {
+#: ``factory(cfg, seed)``: every model takes the run's seed; those that draw nothing at random ignore it
+DRIVER_MODELS: dict[str, Callable[[DriverConfig, int], DriverModel]] = {
     "full_throttle": full_throttle,
     "cruise": cruise,
     "scripted": scripted,
@@ -145,9 +146,4 @@ DRIVER_MODELS: dict[str, Callable[..., DriverModel]] = {
 
 def make_driver(cfg: DriverConfig, seed: int = 0) -> DriverModel:
     """The driver model named by ``cfg.model``; a model that draws at random is seeded with ``seed``."""
-    factory = DRIVER_MODELS[cfg.model]
-    return factory(cfg, seed) if factory in SEEDED else factory(cfg)
-
-
-#: the models that draw at random: they take the run's seed
-SEEDED = frozenset({reacting})
+    return DRIVER_MODELS[cfg.model](cfg, seed)
