@@ -37,6 +37,7 @@ SUBCOMMANDS: dict[str, str] = {
     "export": "cosim.cli.export",
     "sweep": "cosim.cli.sweep",
     "animate": "cosim.cli.animate",
+    "fleet": "cosim.cli.fleet",
 }
 
 

@@ -71,7 +71,7 @@ from ..world.driver_models import Pedals, make_driver
 from ..world.ego import Ego, EgoBody
 from ..world.gateway import Actuation, Gateway
 from ..world.steering_gateway import STEERING_IDS, SteeringGateway
-from ..world.plant import finite_check, open_plant
+from ..world.plant import divides_step, finite_check, open_plant
 from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, PlantSample
 from ..world.radar2d import Track
 from ..world.radar_model import RadarModel
@@ -79,6 +79,7 @@ from ..world.radar_tracks import TrackFeed, radar_params
 from ..world.scene import Scene
 from ..world.scene_build import build_objects, build_road
 from ..world.scene_contact import ContactWatch, Hit
+from ..world.scene_objects import SceneObject
 from ..world.steering_models import make_steering
 from ..results.run_record import pose_cells, timeseries_columns
 from .ecu_config import ecu_config
@@ -91,6 +92,8 @@ _WHEEL_MAX_KMH = signal_layout("WheelSpeeds", "WheelSpeedFL").maximum
 __all__ = ["PHASES", "ClosedLoop", "ecu_config", "run_scenario"]
 
 Progress = Callable[[float, float], None]
+#: bodies a run's scene adds after its scenario's objects, given the index of the first (a fleet's other cars)
+Others = Callable[[int], "list[SceneObject]"]
 
 
 class _Outgoing:
@@ -110,14 +113,15 @@ class ClosedLoop:
     """One run of one strategy. Build, then :meth:`run`; the FMU and buses are closed after."""
 
     def __init__(self, scenario: Scenario, fmu_path: Path, strategy: str | None = None,
-                 profile: bool = False, ecu: EcuOptions | None = None, batch_steps: bool = True) -> None:
+                 profile: bool = False, ecu: EcuOptions | None = None, batch_steps: bool = True,
+                 others: Others | None = None) -> None:
         self.sc = scenario
         self.strategy = strategy or scenario.ecu.strategy
         self._ecu_cfg = ecu_config(scenario, self.strategy)
         self.h_s = scenario.scenario.step_s
         self.n_sub = int(round(ECU_CYCLE_S / self.h_s))
         self.n_track = int(round(OBJECT_TRACK_PERIOD_S / ECU_CYCLE_S))
-        self._world(scenario)
+        self._world(scenario, others)
         self.driver = make_driver(scenario.driver, scenario.scenario.seed)
         self.radar = RadarModel(scenario.radar, default_rng(scenario.scenario.seed))
         self.ecu = ecu if ecu is not None else EcuOptions()
@@ -131,7 +135,8 @@ class ClosedLoop:
         #: the planar sensors' frames (EscDynamics, RadarTrack0..7): sent only to an ECU equipped with them
         self._planar_inputs = EQUIPMENT[self._ecu_cfg.equipment].planar
         self._region = RegionCells()
-        self.record = RunRecord(self.strategy, RunMetrics(self.strategy), columns=timeseries_columns(scenario))
+        self.record = RunRecord(self.strategy, RunMetrics(self.strategy),
+                                columns=timeseries_columns(scenario, len(self.scene.objects)))
         # bound once: next() of each message's E2E counter (C-level), called every cycle
         self._next_driver, self._next_wheels, self._next_track = (
             CounterSequence().next for _ in range(3))
@@ -148,14 +153,17 @@ class ClosedLoop:
         if not self.plant.wheel_speeds_mapped:
             self.record.events.append(RunEvent(0.0, "warning", DERIVED_WHEEL_SPEEDS))
             log.warning("%s: %s", self.strategy, DERIVED_WHEEL_SPEEDS)
-        self.batch_steps = batch_steps and _divides(self.plant.fixed_internal_step_s, self.h_s)
+        self.batch_steps = batch_steps and divides_step(self.plant.fixed_internal_step_s, self.h_s)
         self._timer: PhaseTimer | None = instrument(self) if profile else None
 
-    def _world(self, scenario: Scenario) -> None:
-        """The road, the ego's body, the scene and its contact watch, the steering, the 2-D radar (planar runs)."""
+    def _world(self, scenario: Scenario, others: Others | None) -> None:
+        """The road, the ego's body, the scene and its contact watch, the steering, the 2-D radar (planar runs).
+        ``others``: bodies the scenario does not declare, after its objects (the other vehicles of a fleet)."""
         road = build_road(scenario.road)
         self.ego_body = EgoBody(scenario.plant)
-        self.scene = Scene(build_objects(scenario, road), self.ego_body, scenario.radar, scenario.end)
+        objects = build_objects(scenario, road)
+        objects += others(len(objects)) if others is not None else []
+        self.scene = Scene(objects, self.ego_body, scenario.radar, scenario.end)
         self._has_scene = bool(self.scene)  # its objects are fixed: asked once, not 4x per cycle (Scene.__bool__)
         self.watch = ContactWatch(self.scene)
         self.steering = make_steering(scenario.driver.steering, road, scenario.plant)
@@ -194,7 +202,7 @@ class ClosedLoop:
             out = signed
         return out
 
-    def _cycle_out(self, t_s: float, cycle: int) -> _Outgoing:
+    def cycle_out(self, t_s: float, cycle: int) -> _Outgoing:
         """First half of a cycle: read the plant, run the models, send this cycle's frames to the ECU."""
         self.link.pace(cycle)
         sample = self.plant.read()
@@ -214,7 +222,7 @@ class ClosedLoop:
         frames.extend(self.link.send(t_s, cycle, frames))
         return _Outgoing(sample, ego, pedals, steering_rad, gap_m, frames)
 
-    def _cycle_in(self, t_s: float, cycle: int, out: _Outgoing, applied: Actuation) -> Actuation:
+    def cycle_in(self, t_s: float, cycle: int, out: _Outgoing, applied: Actuation) -> Actuation:
         """Second half: take the ECU's frames, compute next cycle's commands, log the cycle."""
         received = self.link.collect(t_s, cycle)
         offer, steer = self.gateway.offer, self.steering_gateway.offer
@@ -252,24 +260,31 @@ class ClosedLoop:
 
     def _advance(self, k: int, applied: Actuation, ego: Ego) -> tuple[int, bool]:
         """Advance the plant one ECU cycle from the ego at its start; returns the new ``k`` and whether it collided."""
-        plant, h, watch = self.plant, self.h_s, self.watch
-        plant.set_actuation(applied.throttle, applied.brake, applied.steering_wheel_angle_rad, self._overlay_rad)
-        span = self.n_sub * h
-        watching = self._has_scene and watch.candidates(k * h, ego, span)
+        plant, h = self.plant, self.h_s
+        watching = self.actuate(k, applied, ego)
         if self.batch_steps and not watching:
-            plant.step(k * h, span)
+            plant.step(k * h, self.n_sub * h)
             return k + self.n_sub, False
         for _ in range(self.n_sub):
             plant.step(k * h, h)
             k += 1
-            if watching:
-                hit = watch.contact(k * h, self.ego_body.at(plant.pose()))
-                if hit is not None:
-                    self._collide(hit)
-                    return k, True
+            if watching and self.touches(k):
+                return k, True
         return k, False
 
-    def _collide(self, hit: Hit) -> None:
+    def actuate(self, k: int, applied: Actuation, ego: Ego) -> bool:
+        """The plant's commands for the cycle from step ``k``; whether a body could touch the ego within it."""
+        self.plant.set_actuation(applied.throttle, applied.brake, applied.steering_wheel_angle_rad, self._overlay_rad)
+        return self._has_scene and self.watch.candidates(k * self.h_s, ego, self.n_sub * self.h_s)
+
+    def touches(self, k: int) -> bool:
+        """Whether a watched body touches the ego at step ``k`` (then the contact is recorded)."""
+        hit = self.watch.contact(k * self.h_s, self.ego_body.at(self.plant.pose()))
+        if hit is not None:
+            self.collide(hit)
+        return hit is not None
+
+    def collide(self, hit: Hit) -> None:
         m = self.record.metrics
         m.collided = True
         m.impact_speed_mps = hit.impact_speed_mps
@@ -295,9 +310,9 @@ class ClosedLoop:
                 noted = signals.noted
                 while k < total_k:
                     t_s = k * self.h_s
-                    out = self._cycle_out(t_s, cycle)
-                    nxt = self._cycle_in(t_s, cycle, out, applied)
-                    if self._ended(t_s, out.ego):
+                    out = self.cycle_out(t_s, cycle)
+                    nxt = self.cycle_in(t_s, cycle, out, applied)
+                    if self.ended(t_s, out.ego):
                         break
                     k, collided = self._advance(k, applied, out.ego)
                     applied, cycle = nxt, cycle + 1
@@ -308,27 +323,27 @@ class ClosedLoop:
                     if noted:
                         signals.act()  # raises here (KeyboardInterrupt, below), with every cycle whole
             if not self.record.metrics.collided:
-                self._final(k * self.h_s)
+                self.final_sample(k * self.h_s)
         except FmiStepError as exc:
-            self._stop_on(exc.time_s, "fmi_error", str(exc))
+            self.stop_on(exc.time_s, "fmi_error", str(exc))
         except EcuStallError as exc:
-            self._stop_on(exc.time_s, "ecu_stalled", str(exc))
+            self.stop_on(exc.time_s, "ecu_stalled", str(exc))
         except KeyboardInterrupt as exc:  # SIGINT, or SIGTERM via cosim.cli.signals: keep what was run
             self.record.interrupted = signal_name(interrupt_signal(exc))
             self.record.events.append(RunEvent(k * self.h_s, "interrupted", f"{self.record.interrupted}: "
                                                f"stopped at t = {k * self.h_s:.3f} s, results so far kept"))
         finally:
             self.close()
-        self._finish(k * self.h_s, time.perf_counter() - wall0, cycle)
+        self.finish(k * self.h_s, time.perf_counter() - wall0, cycle)
         return self.record
 
-    def _stop_on(self, t_s: float, kind: str, message: str) -> None:
+    def stop_on(self, t_s: float, kind: str, message: str) -> None:
         """An error that ends the run early; the record keeps everything up to ``t_s``."""
         self.record.error = message
         self.record.events.append(RunEvent(t_s, kind, message))
         log.error("%s: %s", self.strategy, message)
 
-    def _ended(self, t_s: float, ego: Ego) -> bool:
+    def ended(self, t_s: float, ego: Ego) -> bool:
         """An ``[end]`` condition has been met (recorded as an ``end`` event)."""
         reason = self.scene.end_reason(t_s, ego) if self._has_scene else None
         if reason is not None:
@@ -336,7 +351,7 @@ class ClosedLoop:
             self.record.events.append(RunEvent(t_s, "end", reason))
         return reason is not None
 
-    def _final(self, t_s: float) -> None:
+    def final_sample(self, t_s: float) -> None:
         """Final sample at the end of the run (outputs after the last step)."""
         sample = self.plant.read()
         self._check_sample(sample, t_s)
@@ -348,7 +363,7 @@ class ClosedLoop:
             m.min_gap_m = min(m.min_gap_m, gap) if m.min_gap_m is not None else gap
         m.max_speed_mps = max(m.max_speed_mps, sample.speed_mps)
 
-    def _finish(self, t_s: float, wall_s: float, cycles: int) -> None:
+    def finish(self, t_s: float, wall_s: float, cycles: int) -> None:
         m = self.record.metrics
         m.sim_time_s = t_s
         m.wall_time_s = wall_s
@@ -374,14 +389,6 @@ class ClosedLoop:
             self.plant.close()
         finally:
             self.link.close()
-
-
-def _divides(internal_step_s: float | None, h_s: float) -> bool:
-    """True when ``h_s`` is a whole number (>= 1) of the FMU's fixed internal steps."""
-    if not internal_step_s:
-        return False
-    ratio = h_s / internal_step_s
-    return ratio >= 1.0 - 1e-9 and abs(ratio - round(ratio)) <= 1e-9 * ratio
 
 
 def run_scenario(scenario: Scenario, fmu_path: Path, strategy: str | None = None,

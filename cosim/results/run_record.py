@@ -23,12 +23,14 @@ REGION_COLUMNS = ("region_contingency", "region_proximity", "region_curvature_1p
                   "region_stopping_m", "steer_overlay_rad")
 
 
-def timeseries_columns(scenario: Scenario) -> tuple[str, ...]:
+def timeseries_columns(scenario: Scenario, n_objects: int | None = None) -> tuple[str, ...]:
     """The time series' columns of a run of ``scenario``: :data:`TIMESERIES_COLUMNS`, and the pose columns when
-    it is planar (a 1-D scenario's file stays as it was)."""
+    it is planar (a 1-D scenario's file stays as it was); ``n_objects``: the scene's objects when it has more
+    than the scenario declares (a fleet's other cars)."""
     if not scenario.planar:
         return TIMESERIES_COLUMNS
-    objects = [f"obj{i}_{c}" for i in range(len(scenario.scene_objects())) for c in OBJECT_POSE_COLUMNS]
+    n = len(scenario.scene_objects()) if n_objects is None else n_objects
+    objects = [f"obj{i}_{c}" for i in range(n) for c in OBJECT_POSE_COLUMNS]
     return (*TIMESERIES_COLUMNS, *EGO_POSE_COLUMNS, *objects, *REGION_COLUMNS)
 
 

@@ -76,3 +76,11 @@ def finite_check(cfg: PlantConfig) -> Callable[[PlantSample, float], None]:
             _check_finite(sample, names, t_s)
 
     return check
+
+
+def divides_step(internal_step_s: float | None, h_s: float) -> bool:
+    """True when ``h_s`` is a whole number (>= 1) of the FMU's fixed internal steps."""
+    if not internal_step_s:
+        return False
+    ratio = h_s / internal_step_s
+    return ratio >= 1.0 - 1e-9 and abs(ratio - round(ratio)) <= 1e-9 * ratio

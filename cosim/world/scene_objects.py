@@ -102,18 +102,20 @@ class SceneObject:
     """One object: its name, box (m), radar size class and motion.
 
     The box reaches ``front_m`` ahead of the reference point along the heading and ``back_m`` behind it
-    (the rear as reference: ``back_m`` = 0, exactly).
+    (the rear as reference: ``back_m`` = 0, exactly). ``size_class``: what the radar reports when the object is
+    not a protocol target (another vehicle of a fleet: ``car``); else the target class's.
     """
 
-    def __init__(self, index: int, cfg: ObjectConfig, motion: Motion, front_m: float) -> None:
+    def __init__(self, index: int, cfg: ObjectConfig, motion: Motion, front_m: float,
+                 size_class: str | None = None) -> None:
         self.index, self.cfg, self.name, self.motion = index, cfg, cfg.name, motion
         self.length_m, self.width_m = cfg.length_m, cfg.width_m
         self.front_m, self.back_m = front_m, cfg.length_m - front_m
         self.half_length_m, self.half_width_m = 0.5 * cfg.length_m, cfg.width_m / 2.0
         self.shift_m = 0.5 * (self.front_m - self.back_m)  # reference point -> the box's centre, along the heading
         target = TARGET_CLASSES.get(cfg.target_class or "")
-        self.kind = cfg.target_class or "object"
-        self.size_class = target.size_class if target is not None else "unknown"
+        self.kind = cfg.target_class or size_class or "object"
+        self.size_class = size_class or (target.size_class if target is not None else "unknown")
 
     def centre(self, st: BodyState) -> tuple[float, float]:
         """The box's centre (m) in the state ``st``."""

@@ -5,7 +5,8 @@ import pytest
 from can_dbc import generate_key, write_key_file
 from cosim.cli.paper import PAPER_SCENARIO
 from cosim.link.ecu_link import EcuOptions
-from cosim.loop.master import ClosedLoop, _divides
+from cosim.loop.master import ClosedLoop
+from cosim.world.plant import divides_step
 from cosim.scenarios.loader import load_scenario
 
 
@@ -48,4 +49,4 @@ def test_only_an_fmu_declaring_a_fixed_internal_step_is_batched():
     (1e-3, 1e-3, True), (1e-3, 2e-3, True), (1e-3, 5e-4, False), (1e-3, 1.5e-3, False), (None, 1e-3, False),
 ])
 def test_divides(internal, h, expected):
-    assert _divides(internal, h) is expected
+    assert divides_step(internal, h) is expected

@@ -1,0 +1,63 @@
+"""Fleet runs: each car sees the others, the lock-step is deterministic, in process and with an ECU process
+per car; the bundled scenes show the dance's collision and deadlock."""
+
+import can
+import pytest
+
+from cosim.cli.fleet import find_scene
+from cosim.cli.main import main
+from cosim.fleet.config import load_fleet
+from cosim.fleet.output import run_fleet
+
+#: frames the ECU process link adds on each bus (its clock and its announcement), not the run's traffic
+LINK_IDS = {0x7F0, 0x7F1, 0x3B0, 0x3B1}
+
+
+def _speeds(record):
+    i = record.columns.index("speed_mps")
+    return [row[i] for row in record.rows]
+
+
+def test_symmetric_crossing_both_cars_invoke_and_move_alike():
+    record, dance = run_fleet(load_fleet(find_scene("crossing")), None, {"west": "none", "south": "none"})
+    west, south = record.records
+    assert _speeds(west) == _speeds(south)  # mirror images: each sees the other as it is seen
+    assert west.metrics.contingency_invocations >= 2
+    assert min(_speeds(west)) < 1.0  # each stops nearly, because of the other alone (no object in its scene)
+    assert dance.first_contingency_s is not None
+
+
+def test_four_way_deadlocks():
+    record, dance = run_fleet(load_fleet(find_scene("four_way")), None)
+    assert dance.collisions == 0
+    assert dance.deadlock_s > 10.0
+    assert dance.time_to_clear_s is None
+
+
+def _frames(path):
+    return [(m.timestamp, m.arbitration_id, bytes(m.data)) for m in can.BLFReader(path)
+            if m.arbitration_id not in LINK_IDS]
+
+
+def test_in_process_and_one_ecu_process_per_car_give_the_same_outputs(tmp_path):
+    key = tmp_path / "k.key"
+    key.write_text("00112233445566778899aabbccddeeff\n")
+    key.chmod(0o600)
+    outs = []
+    for mode in ("inprocess", "process"):
+        out = tmp_path / mode
+        code = main(["fleet", "crossing", "--out", str(out), "--ecu", mode, "--key-file", str(key)])
+        assert code == 3  # the scene collides
+        outs.append(out)
+    a, b = outs
+    for name in ("world.csv", "west/timeseries.csv", "south/timeseries.csv", "west/events.json"):
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+    for car in ("west", "south"):
+        assert _frames(a / car / "can.blf") == _frames(b / car / "can.blf")
+    assert (a / "speeds.png").is_file() and "| west |" in (a / "report.md").read_text()
+
+
+def test_cli_refuses_a_bad_set_in_one_line(capsys):
+    assert main(["fleet", "crossing", "--set", "east=none"]) == 1
+    err = capsys.readouterr().err
+    assert "--set east=none: no vehicle 'east'" in err and err.count("\n") == 1
