@@ -21,12 +21,16 @@ from ..errors import ConfigError
 from ..fleet.config import load_fleet
 from ..fleet.report import dance_table, scene_line
 from ..scenarios.config import STRATEGIES
+from ecu.core.params import CoreParams
+from ecu.settings import keys
 from .ecu_options import add_ecu_arguments, ecu_options
 from .progress import end_progress, progress_printer
 from .signals import interruptible
 
 SCENES_DIR = Path(__file__).resolve().parent.parent / "fleet" / "scenes"
 EXIT_COLLIDED = 3
+#: the way-out rules, as [ecu] way_out declares them
+WAY_OUT = keys(CoreParams)["way_out"].declared.choices
 
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
@@ -34,6 +38,7 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("scene", nargs="?", help="fleet TOML file, or the name of a bundled one (--list)")
     p.add_argument("--list", action="store_true", help="list the bundled fleet scenes and exit")
     p.add_argument("--strategy", choices=STRATEGIES, help="every vehicle's strategy (default: each its [ecu])")
+    p.add_argument("--way-out", choices=WAY_OUT, help="every vehicle's [ecu] way_out (default: each its own)")
     p.add_argument("--set", action="append", default=[], metavar="VEHICLE=STRATEGY",
                    help="one vehicle's strategy; repeatable")
     p.add_argument("--out", type=Path, default=Path("out/fleet"), help="output directory (default out/fleet)")
@@ -82,7 +87,7 @@ def _do_fleet(args: argparse.Namespace) -> int:
     if args.scene is None:
         raise ConfigError("crd fleet: expected a SCENE (a fleet TOML file or a bundled name; --list shows them)")
     path = find_scene(args.scene)
-    fleet = load_fleet(path)
+    fleet = load_fleet(path, args.way_out)
     strategies = strategies_of(args, fleet.names)
     print(f"crd fleet {path} ({len(fleet.vehicles)} vehicles) -> {args.out}", file=sys.stderr)
     record, dance = run_fleet(fleet, args.out, strategies, ecu_options(args), args.can_log,

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import copy
 import math
+import random
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
@@ -34,6 +35,9 @@ from .bodies import Frame
 
 _WIDE = Range(-1e5, 1e5)
 #: the scenario tables a vehicle may give ([scenario] is the fleet's, [checks] the fleet's metrics)
+#: the range of each car's way-out patience (s), drawn per car unless its [ecu] sets way_out_patience_s: from
+#: a glance at the other cars (0.5 s) to about twice a driver's surprised reaction (Green 2000: 1.5 s)
+PATIENCE_S = (0.5, 3.0)
 VEHICLE_TABLES = ("plant", "driver", "ecu", "radar", "gateway", "road", "end", "object", "objects")
 
 
@@ -106,6 +110,13 @@ def _merged(base: Mapping[str, Any], given: Mapping[str, Any]) -> dict:
     return out
 
 
+def patience_s(seed: int) -> float:
+    """A car's own way-out patience (:mod:`ecu.core.way_out`): uniform over ``PATIENCE_S``, seeded with its seed,
+    to the ECU cycle (a production ECU would take it from its serial number)."""
+    low, high = PATIENCE_S
+    return round(random.Random(f"way-out patience/{seed}").uniform(low, high), 2)
+
+
 def _vehicle(i: int, table: Any, base: Mapping[str, Any], section: FleetSection, base_dir: Path | None,
              world: tuple[WorldObject, ...]) -> Vehicle:
     where = f"vehicles[{i}]"
@@ -121,6 +132,9 @@ def _vehicle(i: int, table: Any, base: Mapping[str, Any], section: FleetSection,
         data["object"] = {"enabled": False}  # no cyclist by default: the others are its objects
     data["scenario"] = {"name": f"{section.name}.{placement.name}", "duration_s": section.duration_s,
                         "step_s": section.step_s, "seed": section.seed + i}
+    ecu = data.setdefault("ecu", {})
+    if isinstance(ecu, dict) and ecu.get("way_out", "none") != "none" and "way_out_patience_s" not in ecu:
+        ecu["way_out_patience_s"] = patience_s(section.seed + i)
     try:
         scenario = scenario_from_dict(data, base_dir)
     except SettingError as exc:
@@ -159,11 +173,16 @@ def _world_objects(tables: Any) -> tuple[WorldObject, ...]:
     return tuple(load(WorldObject, table, f"objects[{i}]") for i, table in enumerate(tables))
 
 
-def fleet_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) -> Fleet:
-    """Build and check a :class:`Fleet` from parsed TOML (module docstring)."""
+def fleet_from_dict(data: Mapping[str, Any], base_dir: Path | None = None, way_out: str | None = None) -> Fleet:
+    """Build and check a :class:`Fleet` from parsed TOML (module docstring); ``way_out``: every vehicle's
+    ``[ecu] way_out`` instead of the file's."""
     data = check_keys(data, ("fleet", "vehicle", "vehicles", "objects"), "")
     section = load(FleetSection, data.get("fleet", {}), "fleet")
     base = check_keys(data.get("vehicle", {}), VEHICLE_TABLES, "vehicle")
+    if way_out is not None:
+        base = _merged(base, {"ecu": {"way_out": way_out}})
+        data = {**data, "vehicles": [_merged(t, {"ecu": {"way_out": way_out}}) if isinstance(t, Mapping) else t
+                                     for t in data.get("vehicles", [])]}
     tables = data.get("vehicles", [])
     if not isinstance(tables, list) or len(tables) < 2:
         raise SettingError("vehicles", "expected two or more [[vehicles]] tables")
@@ -175,10 +194,11 @@ def fleet_from_dict(data: Mapping[str, Any], base_dir: Path | None = None) -> Fl
     return Fleet(section, vehicles, world)
 
 
-def load_fleet(path: str | Path) -> Fleet:
-    """Read and check a fleet TOML file; every error names the file and the key."""
+def load_fleet(path: str | Path, way_out: str | None = None) -> Fleet:
+    """Read and check a fleet TOML file; every error names the file and the key (``way_out``: see
+    :func:`fleet_from_dict`)."""
     path = Path(path)
-    return load_toml(path, lambda data: fleet_from_dict(data, base_dir=path.parent), "fleet")
+    return load_toml(path, lambda data: fleet_from_dict(data, base_dir=path.parent, way_out=way_out), "fleet")
 
 
 def is_fleet_file(path: str | Path) -> bool:

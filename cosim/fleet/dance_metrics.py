@@ -15,9 +15,11 @@ For the scene, from the world rows (one per ECU cycle):
 * **time in deadlock**: the cycles in which every vehicle not yet cleared is within
   ``approach_radius_m`` of the centre, and none of them moves faster than ``progress_speed_mps``
   (at least one not cleared): nobody goes, nobody gives way;
-* **first contingency**: the earliest time any car's ECU was in CONTINGENCY (its ``ecu_mode`` column);
-* **time to clear**: from the first contingency to the time the last vehicle cleared (None: not every
-  vehicle cleared).
+* **first contingency**, **first intervention**: the earliest time any car's ECU was in CONTINGENCY
+  (its ``ecu_mode`` column), or in TIGHTENING or CONTINGENCY;
+* **all cleared**: when the last vehicle cleared (None: not every vehicle cleared);
+* **time to clear**: from the first contingency (the issue's measure; without one, from the first
+  intervention) to all cleared (None: not every vehicle cleared, or no ECU intervened).
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from ..results.run_record import RunRecord
 from ..results.speed_dance import speed_dance
 from .config import FleetSection
 
-CONTINGENCY = "CONTINGENCY"
+CONTINGENCY, TIGHTENING = "CONTINGENCY", "TIGHTENING"
 
 
 @dataclass(frozen=True)
@@ -54,6 +56,8 @@ class SceneDance:
     vehicles: tuple[VehicleDance, ...]
     deadlock_s: float
     first_contingency_s: float | None
+    first_intervention_s: float | None
+    all_cleared_s: float | None
     time_to_clear_s: float | None
     collisions: int
 
@@ -75,9 +79,14 @@ def _cleared_at(xs: Sequence[float], ys: Sequence[float], ts: Sequence[float], z
     return None
 
 
-def _first_contingency(record: RunRecord) -> float | None:
+def _first_in(record: RunRecord, modes: tuple[str, ...]) -> float | None:
     mode = record.columns.index("ecu_mode")
-    return next((row[0] for row in record.rows if row[mode] == CONTINGENCY), None)
+    return next((row[0] for row in record.rows if row[mode] in modes), None)
+
+
+def _earliest(times: Sequence[float | None]) -> float | None:
+    known = [t for t in times if t is not None]
+    return min(known) if known else None
 
 
 def vehicle_dance(name: str, record: RunRecord, world: Sequence[tuple[float, ...]], index: int,
@@ -113,10 +122,11 @@ def scene_dance(names: Sequence[str], records: Sequence[RunRecord], world: Seque
                 zone: FleetSection) -> SceneDance:
     """Every figure of the module docstring."""
     vehicles = tuple(vehicle_dance(n, r, world, i, zone) for i, (n, r) in enumerate(zip(names, records)))
-    firsts = [t for t in (_first_contingency(r) for r in records) if t is not None]
-    first = min(firsts) if firsts else None
+    first = _earliest([_first_in(r, (CONTINGENCY,)) for r in records])
+    intervened = _earliest([_first_in(r, (CONTINGENCY, TIGHTENING)) for r in records])
     cleared = [v.cleared_at_s for v in vehicles]
     last = max(cleared) if cleared and all(c is not None for c in cleared) else None
-    to_clear = None if first is None or last is None else max(0.0, last - first)
-    return SceneDance(vehicles, round(_deadlock_s(world, cleared, zone), 6), first, to_clear,
+    start = first if first is not None else intervened
+    to_clear = None if start is None or last is None else max(0.0, last - start)
+    return SceneDance(vehicles, round(_deadlock_s(world, cleared, zone), 6), first, intervened, last, to_clear,
                       sum(v.collided for v in vehicles))

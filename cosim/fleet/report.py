@@ -24,8 +24,10 @@ def dance_table(dance: SceneDance) -> str:
 
 
 def scene_line(dance: SceneDance) -> str:
-    return (f"first contingency {_fmt(dance.first_contingency_s)} s, time in deadlock {dance.deadlock_s:.2f} s, "
-            f"time to clear {_fmt(dance.time_to_clear_s)} s, collisions {dance.collisions}")
+    return (f"first intervention {_fmt(dance.first_intervention_s)} s, first contingency "
+            f"{_fmt(dance.first_contingency_s)} s, time in deadlock {dance.deadlock_s:.2f} s, all cleared "
+            f"{_fmt(dance.all_cleared_s)} s, time to clear {_fmt(dance.time_to_clear_s)} s, collisions "
+            f"{dance.collisions}")
 
 
 def write_fleet_report(path: Path, fleet: Fleet, dance: SceneDance) -> None:

@@ -242,6 +242,22 @@ class CoreParams:
             "(right-hand traffic: a two-lane road's other lane); beyond them is off the road (UN R79 ESF)")
     free_lanes_right: int = setting(0, allowed=Range(0, 4),
                                     doc="... and this many to its right (0: the road's edge bounds our lane)")
+    way_out: str = setting(
+        "none", allowed=("none", "right_of_way"),
+        doc="the way out of a crossing's deadlock (ecu.core.region.crossing.WAY_OUT_RULES): which crossing vehicles "
+            "tightening bounds the throttle against; none: every one (the plain method); right_of_way: only those "
+            "from the right (Vienna Convention 1968, art. 18(4)(a)); the contingency holds against all")
+    way_out_patience_s: float = setting(
+        1.5, unit="s", allowed=Range(0.0, 600.0),
+        doc="right_of_way: slow this long with something near, the car takes its turn (ecu.core.way_out)")
+    way_out_slow_speed_mps: float = setting(3.0, unit="m/s", allowed=Range(0.0, 20.0),
+                                            doc="right_of_way: below this speed a car counts as waiting (above "
+                                                "the crossing dance's recoveries, at most 2.5 m/s in crd fleet "
+                                                "four_way, so a car that dances counts as waiting)")
+    way_out_path_m: float = setting(
+        30.0, unit="m", allowed=Range(0.0, 500.0),
+        doc="right_of_way: a car given way to is assumed to go on this far along its velocity (its way through the "
+            "crossing: do not enter a crossing where one would have to stop, Vienna Convention 1968, art. 18(2))")
 
     model_decel_mps2: float = field(init=False, repr=False, compare=False)
     model_decel_fraction: float = field(init=False, repr=False, compare=False)

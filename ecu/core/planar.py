@@ -41,17 +41,20 @@ from .params import CoreParams
 from .plan import Plan
 from .relevance import in_path
 from .region import EgoState, RegionDecision, Road, TrackBox, decide
+from .region.crossing import crossing_proximity
 from .region.paths import current_curvature
 from .types import CoreInputs, RegionReport
 
 
 class RegionCycle(NamedTuple):
-    """One cycle's region: the ego as the region saw it, the decision over every track, and whether the
-    driver's stopping path is disjoint from the tracks the 1-D line does not judge."""
+    """One cycle's region: the ego as the region saw it, the decision over every track, whether the
+    driver's stopping path is disjoint from the tracks the 1-D line does not judge, and the nominal path's
+    proximity to crossing vehicles (:mod:`ecu.core.region.crossing`)."""
 
     ego: EgoState
     decision: RegionDecision
     off_axis_disjoint: bool
+    crossing_proximity: float
 
 
 def ego_state(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams) -> EgoState:
@@ -90,8 +93,10 @@ def line_track(tracks: Sequence[Track], inputs: CoreInputs, params: CoreParams) 
     return best
 
 
-def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams) -> RegionCycle | None:
-    """Steps 1-5 of the module docstring; None without planar tracks."""
+def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams,
+                 impatient: bool = False) -> RegionCycle | None:
+    """Steps 1-5 of the module docstring; None without planar tracks. ``impatient``: the way-out rule's car
+    takes its turn (:mod:`ecu.core.way_out`): no tightening against crossing vehicles."""
     tracks = inputs.tracks
     if not tracks:
         return None
@@ -104,13 +109,32 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
         line = line_track(tracks, inputs, params)
         others = boxes if line is None else boxes[:line] + boxes[line + 1:]
         off_axis = not others or decide(ego, others, road, params.region, steer=False).driver_disjoint
-    return RegionCycle(ego, decision, off_axis)
+    crossing = 0.0 if impatient else \
+        crossing_proximity(decision, [t.size_class for t in tracks], params.region, params.way_out,
+                           0.0 if params.way_out == "none" else params.way_out_path_m)
+    return RegionCycle(ego, decision, off_axis, crossing)
 
 
-def merged(plan: Plan, region: RegionCycle | None, steering_held: bool) -> Plan:
-    """The 1-D plan with the region's addition: not disjoint (nor released) while an off-axis object's region
-    reaches the driver's stopping path, or while a steering contingency is held (``steering_held``: it brakes to
-    a stop along its path, :mod:`ecu.core.steering`)."""
+def tightened(plan: Plan, proximity: float, params: CoreParams) -> Plan:
+    """The plan with the strategy's bound at ``proximity`` too, when that is higher than the plan's: the more
+    restrictive of the two bounds (``none`` and ``conservative`` do not tighten: the plan as it is)."""
+    if proximity <= plan.proximity:
+        return plan
+    bound = params.strategy_rules.tighten(proximity, params)
+    if not bound.restricts:
+        return plan
+    return plan._replace(proximity=proximity, throttle_limit_pct=min(plan.throttle_limit_pct, bound.throttle_limit_pct),
+                         decel_request_mps2=max(plan.decel_request_mps2, bound.decel_request_mps2),
+                         tightening_restricts=True)
+
+
+def merged(plan: Plan, region: RegionCycle | None, steering_held: bool, params: CoreParams) -> Plan:
+    """The 1-D plan with the region's addition: tightened toward crossing vehicles (:func:`tightened`); not
+    disjoint (nor released) while an off-axis object's region reaches the driver's stopping path, or while a
+    steering contingency is held (``steering_held``: it brakes to a stop along its path,
+    :mod:`ecu.core.steering`)."""
+    if region is not None:
+        plan = tightened(plan, region.crossing_proximity, params)
     if not steering_held and (region is None or region.off_axis_disjoint):
         return plan
     return plan._replace(disjoint=False, released=False)

@@ -43,6 +43,7 @@ from .steering import REQUEST_RANGE_RAD, steering, steering_held, unavoidable
 from .track_confirmation import confirmed, next_track
 from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag
 from .validity import input_validity
+from .way_out import impatient, next_slow_cycles
 
 _SPEED_RADAR, _INTERNAL = (1 << FaultFlag[name] for name in ("SPEED_RADAR", "INTERNAL"))
 
@@ -74,8 +75,9 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     fault = flags & ~REPORT_ONLY_FLAGS
     estimate, decel_mps2 = params.strategy_rules.cycle_decel(state, inputs, speed, wheels_ok, params)
     cycle_plan = plan(speed, inputs, relevant, decel_mps2, params)
-    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params) if inputs.tracks else None
-    cycle_plan = merged(cycle_plan, region, steering_held(state, speed, params))
+    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params, impatient(state, params)) \
+        if inputs.tracks else None
+    cycle_plan = merged(cycle_plan, region, steering_held(state, speed, params), params)
     # standstill only matters while faulted (a held contingency ends there)
     stopped = bool(fault) and release_speed_mps(speed, wheels_ok, inputs, params) <= params.standstill_speed_mps
     mode, valid_cycles, held, throttle, decel = decide(state, cycle_plan, fault, stopped, params)
@@ -95,7 +97,8 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
         valid_cycles=valid_cycles, held_contingency=held,
         gate_interventions=state.gate_interventions + interventions, decel=estimate, track=track,
         cycles_since_drive=health.cycles_since_drive, traction_excess_mps=health.traction_excess_mps,
-        steer_curvature_1pm=steer.curvature_1pm, steer_request_rad=steer_rad)
+        steer_curvature_1pm=steer.curvature_1pm, steer_request_rad=steer_rad,
+        slow_cycles=next_slow_cycles(state, speed, region is not None and region.decision.proximity > 0.0, params))
     outputs = CoreOutputs(
         mode=gated.mode, override_active=gated.override_active, throttle_limit_pct=gated.throttle_limit_pct,
         brake_decel_request_mps2=gated.brake_decel_request_mps2, fault_flags=flags,

@@ -112,6 +112,8 @@ class CoreState(NamedTuple):
     #: requested (rad) (:mod:`ecu.core.steering`)
     steer_curvature_1pm: float | None = None
     steer_request_rad: float = 0.0
+    #: cycles slow with something near the nominal path (:mod:`ecu.core.way_out`; 0 without a way-out rule)
+    slow_cycles: int = 0
 
 
 class CoreOutputs(NamedTuple):

@@ -46,8 +46,9 @@ def test_in_process_and_one_ecu_process_per_car_give_the_same_outputs(tmp_path):
     outs = []
     for mode in ("inprocess", "process"):
         out = tmp_path / mode
-        code = main(["fleet", "crossing", "--out", str(out), "--ecu", mode, "--key-file", str(key)])
-        assert code == 3  # the scene collides
+        code = main(["fleet", "crossing", "--out", str(out), "--ecu", mode, "--key-file", str(key),
+                     "--strategy", "none"])
+        assert code == 3  # the plain method collides here
         outs.append(out)
     a, b = outs
     for name in ("world.csv", "west/timeseries.csv", "south/timeseries.csv", "west/events.json"):
@@ -61,3 +62,22 @@ def test_cli_refuses_a_bad_set_in_one_line(capsys):
     assert main(["fleet", "crossing", "--set", "east=none"]) == 1
     err = capsys.readouterr().err
     assert "--set east=none: no vehicle 'east'" in err and err.count("\n") == 1
+
+
+def test_the_dance_is_visible_and_tightening_keeps_it_from_colliding():
+    """Issue 23's first two figures on the crossing: none collides; tightening dances (>= 3 separate
+    decelerations, recoveries >= 0.5 m/s, in both cars) and does not collide."""
+    fleet = load_fleet(find_scene("crossing"))
+    _, plain = run_fleet(fleet, None, {"west": "none", "south": "none"})
+    _, tight = run_fleet(fleet, None, {"west": "tightening", "south": "tightening"})
+    assert plain.collisions == 2
+    assert tight.collisions == 0
+    for car in tight.vehicles:
+        assert car.decelerations >= 3 and min(car.recoveries_mps) >= 0.5
+
+
+@pytest.mark.parametrize("scene", ["crossing", "four_way"])
+def test_right_of_way_clears_within_10_s_of_the_first_contingency(scene):
+    _, dance = run_fleet(load_fleet(find_scene(scene), way_out="right_of_way"), None)
+    assert dance.collisions == 0
+    assert dance.all_cleared_s is not None and dance.time_to_clear_s <= 10.0
