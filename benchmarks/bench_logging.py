@@ -29,6 +29,18 @@ Printed per strategy (medians over the rounds, min..max):
   the machine is nearly as much as the ratios do;
 * the load average (1 min) before the first and after the last round, and its highest value
   seen between rounds: on a shared machine, read the wall-time figures with it;
+* ``full collections``: how many full (generation 2) garbage collections started within each
+  side, summed over the rounds. Before each side (outside its clocks) the benchmark runs one
+  (:func:`gc.collect`), so both start from the same collector state: a full pass walks every
+  object of crd's imports (about 30 ms, a tenth of a conservative run) and otherwise falls on
+  whichever side crosses the collector's threshold, which in this deterministic sequence of
+  runs is the same side of the same strategy round after round (before this: conservative's
+  crd run in 4 of 7 rounds, the loop alone in none: its ratio 0.87 instead of 0.93). A pass
+  that the logging's own allocations set off still falls within crd run and is counted here.
+  ``--no-collect`` measures the old way; ``--in-a-row N`` also runs each side N times in a row
+  (no collection between) and counts the full passes: how often a run sets one off in a long
+  process (conservative, 15 in a row: 4 for each side, 2026-12-02), so what the loop's own
+  objects cost, not the logging;
 * ``--with-report``: also ``run_strategies`` (report, plots, ``metrics.json``, config) over
   the loop's whole call, for information: the plots are a fixed cost of about a second.
 """
@@ -36,6 +48,7 @@ Printed per strategy (medians over the rounds, min..max):
 from __future__ import annotations
 
 import argparse
+import gc
 import os
 import statistics
 import sys
@@ -55,6 +68,22 @@ from cosim.results.stream import RunStream  # noqa: E402
 from cosim.scenarios.loader import load_scenario  # noqa: E402
 
 STRATEGIES = ("none", "conservative", "tightening")
+
+
+class FullCollections:
+    """Within the block, the full (generation 2) garbage collections that start: :attr:`count`."""
+
+    def __enter__(self) -> FullCollections:
+        self.count = 0
+        gc.callbacks.append(self._seen)
+        return self
+
+    def _seen(self, phase: str, info: dict) -> None:
+        if phase == "start" and info["generation"] == 2:
+            self.count += 1
+
+    def __exit__(self, *exc) -> None:
+        gc.callbacks.remove(self._seen)
 
 
 def loop_only(sc, fmu: Path, strategy: str) -> tuple[float, float, float]:
@@ -112,15 +141,29 @@ def whole_command(sc, strategy: str, out: Path) -> float:
     return record.metrics.sim_time_s / (time.perf_counter() - t0)
 
 
-def one_round(sc, fmu: Path, strategies, figures: dict, with_report: bool, loop_first: bool) -> None:
+def one_side(figures: dict, key: tuple, collect: bool, side, *args) -> tuple[float, ...]:
+    """``side(*args)``, after a full collection (``collect``); the full collections within it counted under ``key``."""
+    if collect:
+        gc.collect()
+    with FullCollections() as full:
+        result = side(*args)
+    figures.setdefault(key, []).append(full.count)
+    return result
+
+
+def one_round(sc, fmu: Path, strategies, figures: dict, with_report: bool, loop_first: bool,
+              collect: bool = True) -> None:
     """Each strategy's loop alone and crd run, one right after the other (which goes first alternates)."""
     for strategy in strategies:
         with tempfile.TemporaryDirectory() as tmp:
             if loop_first:
-                loop_x, loop_total_x, loop_cpu_x = loop_only(sc, fmu, strategy)
-            run_x, run_total_x, run_cpu_x, *logging_ms = crd_run(sc, fmu, strategy, Path(tmp) / "run")
+                loop_x, loop_total_x, loop_cpu_x = one_side(figures, (strategy, "full loop"), collect, loop_only,
+                                                            sc, fmu, strategy)
+            run_x, run_total_x, run_cpu_x, *logging_ms = one_side(figures, (strategy, "full run"), collect, crd_run,
+                                                                  sc, fmu, strategy, Path(tmp) / "run")
             if not loop_first:
-                loop_x, loop_total_x, loop_cpu_x = loop_only(sc, fmu, strategy)
+                loop_x, loop_total_x, loop_cpu_x = one_side(figures, (strategy, "full loop"), collect, loop_only,
+                                                            sc, fmu, strategy)
             figures.setdefault((strategy, "loop"), []).append(loop_x)
             figures.setdefault((strategy, "run"), []).append(run_x)
             figures.setdefault((strategy, "ratio"), []).append(run_x / loop_x)
@@ -135,7 +178,25 @@ def one_round(sc, fmu: Path, strategies, figures: dict, with_report: bool, loop_
                 figures.setdefault((strategy, "ratio command"), []).append(command_x / loop_total_x)
 
 
-def report(figures: dict, strategies, rounds: int, with_report: bool, loads: list[float]) -> None:
+def in_a_row(sc, fmu: Path, strategies, runs: int) -> None:
+    """Each side ``runs`` times in a row (one collection before, none between): the full collections counted."""
+    print(f"full garbage collections in {runs} runs in a row (one collection before each series, none between)")
+    for strategy in strategies:
+        counts = []
+        with tempfile.TemporaryDirectory() as tmp:
+            for side in ("loop", "run"):
+                gc.collect()
+                with FullCollections() as full:
+                    for i in range(runs):
+                        if side == "loop":
+                            loop_only(sc, fmu, strategy)
+                        else:
+                            crd_run(sc, fmu, strategy, Path(tmp) / f"run{i}")
+                counts.append(full.count)
+        print(f"{strategy:<13}loop only {counts[0]}, crd run {counts[1]}")
+
+
+def report(figures: dict, strategies, rounds: int, with_report: bool, loads: list[float], collect: bool) -> None:
     columns = [("loop x real", "loop", "{:.0f}"), ("crd run x real", "run", "{:.0f}"),
                ("loop x real (CPU)", "loop cpu", "{:.0f}"), ("crd run x real (CPU)", "run cpu", "{:.0f}"),
                ("ratio (metrics)", "ratio", "{:.3f}"), ("ratio (to logs closed)", "ratio closed", "{:.3f}"),
@@ -155,6 +216,10 @@ def report(figures: dict, strategies, rounds: int, with_report: bool, loads: lis
         log_ms, rest_ms = (statistics.median(figures[(s, k)]) for k in ("log loop ms", "loop ms"))
         print(f"{s:<13}logging {log_ms:6.2f} ms, loop {rest_ms:7.1f} ms: logging {log_ms / rest_ms:.1%} of the "
               f"loop's CPU time")
+    print("full garbage collections within each side, over the rounds ("
+          + ("one run before each side" if collect else "--no-collect: none run before a side") + ")")
+    for s in strategies:
+        print(f"{s:<13}loop only {sum(figures[(s, 'full loop')])}, crd run {sum(figures[(s, 'full run')])}")
     worst = min(strategies, key=lambda s: statistics.median(figures[(s, "ratio")]))
     print(f"lowest ratio ({worst}): crd run / loop only = {statistics.median(figures[(worst, 'ratio')]):.3f} by "
           f"metrics.json's wall time, {statistics.median(figures[(worst, 'ratio closed')]):.3f} to the logs closed, "
@@ -165,6 +230,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=7, help="alternating rounds; medians are reported")
     parser.add_argument("--strategy", action="append", choices=STRATEGIES, help="default: all three")
+    parser.add_argument("--no-collect", action="store_true",
+                        help="no full garbage collection before each side (the figures before 2026-12-02 evening)")
+    parser.add_argument("--in-a-row", type=int, default=0, metavar="N",
+                        help="also run each side N times in a row and count the full garbage collections")
     parser.add_argument("--with-report", action="store_true", help="also time run_strategies (report and plots)")
     args = parser.parse_args()
     strategies = args.strategy or STRATEGIES
@@ -176,9 +245,12 @@ def main() -> None:
     figures: dict = {}
     loads = [os.getloadavg()[0]]
     for round_ in range(max(1, args.repeat)):
-        one_round(sc, fmu, strategies, figures, args.with_report, loop_first=round_ % 2 == 0)
+        one_round(sc, fmu, strategies, figures, args.with_report, loop_first=round_ % 2 == 0,
+                  collect=not args.no_collect)
         loads.append(os.getloadavg()[0])
-    report(figures, strategies, max(1, args.repeat), args.with_report, loads)
+    report(figures, strategies, max(1, args.repeat), args.with_report, loads, not args.no_collect)
+    if args.in_a_row:
+        in_a_row(sc, fmu, strategies, args.in_a_row)
 
 
 if __name__ == "__main__":

@@ -20,11 +20,13 @@ rows and frames (slices of the record) in the loop's own thread, a simulated sec
 BLF gets each batch of frames as one array of BLF objects, no ``can.Message`` per frame, and
 compresses its containers at zlib level 1 (:class:`~cosim.results.can_logs.FrameBlfWriter`); the
 time series is formatted with one ``%`` per row (:func:`~cosim.results.writer.timeseries_lines`).
-Other log formats take python-can's writers frame by frame. Measured on 2026-12-02 (quiet machine,
-the same run of the benchmark): ``crd run`` at 0.98 of the loop alone this way, against 0.72-0.76
-with the writing on a background thread (issue 25's first design): the thread's formatting and
-packing hold the GIL in turns with the loop, and the hand-overs between the two threads cost more
-than the writing itself (about 12 % of the loop's CPU time). A write that fails (a full disk) stops
+Other log formats take python-can's writers frame by frame. Measured on 2026-12-02 (the same run
+of the benchmark, each side after one full garbage collection): ``crd run`` at 0.93-0.94 of the
+loop alone this way, the writing 5.5-5.8 % of the loop's CPU time (zlib, the time series' float
+formatting and packing the BLF objects about a quarter each), against 0.72-0.76 with the writing
+on a background thread (issue 25's first design): the thread's formatting and packing hold the
+GIL in turns with the loop, and the hand-overs between the two threads cost more than the writing
+itself (about 12 % of the loop's CPU time). A write that fails (a full disk) stops
 the run with :class:`LogWriteError`, naming the run's directory and the cause, and what was written
 before is kept (``tests/cosim/test_log_writer.py``).
 """
