@@ -14,7 +14,7 @@ from cosim.cli.fleet import bundled_scenes
 from cosim.fleet.config import load_fleet
 from cosim.fleet.output import run_fleet
 
-RUNS = (("none", "none"), ("tightening", "none"), ("tightening", "right_of_way"))
+RUNS = (("none", "none"), ("tightening", "none"), ("tightening", "right_of_way"), ("tightening", "reciprocal"))
 
 
 def _fmt(x: float | None) -> str:

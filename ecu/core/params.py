@@ -243,10 +243,11 @@ class CoreParams:
     free_lanes_right: int = setting(0, allowed=Range(0, 4),
                                     doc="... and this many to its right (0: the road's edge bounds our lane)")
     way_out: str = setting(
-        "none", allowed=("none", "right_of_way"),
+        "none", allowed=("none", "right_of_way", "reciprocal"),
         doc="the way out of a crossing's deadlock (ecu.core.region.crossing.WAY_OUT_RULES): which crossing vehicles "
             "tightening bounds the throttle against; none: every one (the plain method); right_of_way: only those "
-            "from the right (Vienna Convention 1968, art. 18(4)(a)); the contingency holds against all")
+            "from the right (Vienna Convention 1968, art. 18(4)(a)); reciprocal: only those ORCA's split of "
+            "responsibility gives us to slow for (ecu.core.region.reciprocal); the contingency holds against all")
     way_out_patience_s: float = setting(
         1.5, unit="s", allowed=Range(0.0, 600.0),
         doc="right_of_way: slow this long with something near, the car takes its turn (ecu.core.way_out)")

@@ -110,7 +110,7 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
         others = boxes if line is None else boxes[:line] + boxes[line + 1:]
         off_axis = not others or decide(ego, others, road, params.region, steer=False).driver_disjoint
     crossing = 0.0 if impatient else \
-        crossing_proximity(decision, [t.size_class for t in tracks], params.region, params.way_out,
+        crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
                            0.0 if params.way_out == "none" else params.way_out_path_m)
     return RegionCycle(ego, decision, off_axis, crossing)
 

@@ -19,7 +19,7 @@ def _proximity(track: TrackBox, way_out: str = "none") -> float:
     params = CoreParams(strategy="tightening")
     ego = EgoState(EGO_SPEED, 0.0, params.model_decel_mps2)
     decision = decide(ego, [track], None, params.region, steer=False)
-    return crossing_proximity(decision, [track.size_class], params.region, way_out)
+    return crossing_proximity(decision, [track], EGO_SPEED, params.region, way_out)
 
 
 def _crossing_car(side: float, size_class: str = "CAR") -> TrackBox:
@@ -72,3 +72,34 @@ def test_the_rules_registry_matches_the_declared_choices():
 
     assert tuple(WAY_OUT_RULES) == keys(P)["way_out"].declared.choices
     assert math.isclose(P().way_out_patience_s, 1.5)
+
+
+def _crossing_pair(d_west_m: float, d_south_m: float, speed_mps: float = 8.0) -> tuple[bool, bool]:
+    """ORCA's split for two cars crossing at right angles, each seeing the other as its radar track: west
+    (heading east) ``d_west_m`` before the crossing, south (heading north) ``d_south_m``; (west slows, south
+    slows)."""
+    from ecu.core.region.reciprocal import ours_to_slow
+
+    region = CoreParams().region
+    seen_by_west = TrackBox(d_west_m - 0.85, -d_south_m, -speed_mps, speed_mps, CLASS["CAR"], 0.17)
+    seen_by_south = TrackBox(d_south_m - 0.85, d_west_m, -speed_mps, -speed_mps, CLASS["CAR"], 0.17)
+    return ours_to_slow(seen_by_west, speed_mps, region), ours_to_slow(seen_by_south, speed_mps, region)
+
+
+def test_orca_split_the_later_car_slows_and_the_earlier_goes_on():
+    assert _crossing_pair(20.0, 25.0) == (False, True)
+    assert _crossing_pair(25.0, 20.0) == (True, False)
+
+
+def test_orca_split_in_the_symmetric_tie_both_slow():
+    """The reciprocal dance RVO's authors report for symmetric encounters (planar-protocol-facts.md §8)."""
+    assert _crossing_pair(20.0, 20.0) == (True, True)
+
+
+def test_orca_normal_head_on_points_back_and_to_the_right():
+    from ecu.core.region.reciprocal import outward_normal
+
+    nx, ny = outward_normal((10.0, 0.0), (5.0, 0.0), 2.0, 5.0)
+    assert nx < 0.0 and ny < 0.0 and math.isclose(math.hypot(nx, ny), 1.0)
+    # beyond the horizon: the cut-off circle (centre p / tau = (20, 0)), its normal toward v
+    assert outward_normal((100.0, 0.0), (1.0, 0.0), 2.0, 5.0) == pytest.approx((-1.0, 0.0))

@@ -36,10 +36,11 @@ import numpy as np
 from can_dbc.contract import enumeration
 
 from .decision import RegionDecision, proximity_of
-from .objects import ObjectSet
+from .objects import ObjectSet, TrackBox
 from .overlap import gaps
 from .params import RegionParams
 from .paths import NOMINAL
+from .reciprocal import reciprocal_mask
 
 CROSSING_ANGLE_RAD = math.radians(30.0)
 #: the DBC's Track<i>SizeClass values of vehicles
@@ -55,31 +56,45 @@ def crossing_mask(objects: ObjectSet, size_classes: Sequence[int]) -> np.ndarray
     return objects.moving & vehicle & across & toward
 
 
-def _every_crossing(objects: ObjectSet) -> np.ndarray:
+#: a way-out rule: (the tracks' boxes, the tracks, our speed, the parameters) -> the tracks it tightens against
+WayOutRule = Callable[[ObjectSet, Sequence[TrackBox], float, RegionParams], np.ndarray]
+
+
+def _every_crossing(objects: ObjectSet, tracks: Sequence[TrackBox], speed_mps: float,
+                    params: RegionParams) -> np.ndarray:
     return np.ones(objects.centre.shape, dtype=bool)
 
 
-def _from_the_right(objects: ObjectSet) -> np.ndarray:
+def _from_the_right(objects: ObjectSet, tracks: Sequence[TrackBox], speed_mps: float,
+                    params: RegionParams) -> np.ndarray:
     return objects.centre.imag < 0.0
+
+
+def _reciprocal(objects: ObjectSet, tracks: Sequence[TrackBox], speed_mps: float,
+                params: RegionParams) -> np.ndarray:
+    return reciprocal_mask(tracks, speed_mps, params)
 
 
 #: ``[ecu] way_out`` -> which crossing vehicles the ego tightens against (the contingency, the plain method's
 #: disjointness, holds against every object whatever the rule)
-WAY_OUT_RULES: Mapping[str, Callable[[ObjectSet], np.ndarray]] = MappingProxyType({
+WAY_OUT_RULES: Mapping[str, WayOutRule] = MappingProxyType({
     "none": _every_crossing,           # the plain method: every crossing vehicle
     "right_of_way": _from_the_right,   # give way to the right (Vienna Convention 1968, art. 18(4)(a))
+    "reciprocal": _reciprocal,         # ORCA's split: only where our half is to slow (ecu.core.region.reciprocal)
 })
 
 
-def crossing_proximity(decision: RegionDecision, size_classes: Sequence[int], params: RegionParams,
+def crossing_proximity(decision: RegionDecision, tracks: Sequence[TrackBox], speed_mps: float, params: RegionParams,
                        way_out: str = "none", path_ahead_m: float = 0.0) -> float:
     """The nominal row's proximity to the crossing vehicles' regions that ``way_out`` keeps (module
     docstring), each region extended ``path_ahead_m`` further along its velocity (a way-out rule yields to
-    the other car's way, not only to where it could stop); 0 without any."""
+    the other car's way, not only to where it could stop); 0 without any. ``tracks``: the boxes' tracks, in
+    their order; ``speed_mps``: ours."""
     objects = decision.objects
     if objects.centre.size == 0:
         return 0.0
-    mask = crossing_mask(objects, size_classes) & WAY_OUT_RULES[way_out](objects)
+    mask = crossing_mask(objects, [t.size_class for t in tracks]) & \
+        WAY_OUT_RULES[way_out](objects, tracks, speed_mps, params)
     if not mask.any():
         return 0.0
     subset = ObjectSet(*(field[mask] for field in objects))
