@@ -16,12 +16,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from ..scenarios.config import ObjectConfig, PlantConfig
 from ..world.ego import Ego, EgoBody
 from ..world.scene_motion import BodyState
 from ..world.scene_objects import SceneObject
-from ..world.trajectory import EgoState
+from ..world.trajectory import EgoState, Kinematics
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,18 +51,12 @@ class Frame:
         return vx * c + vy * s, vy * c - vx * s
 
 
-@dataclass(frozen=True, slots=True)
-class WorldBody:
-    """A vehicle's box in the world at one time: centre, heading, velocity over ground, yaw rate, speed."""
+class WorldBody(NamedTuple):
+    """A vehicle's box in the world at one time ``t_s``: its centre, heading, velocity over ground, yaw rate and
+    speed (:class:`~cosim.world.trajectory.Kinematics`)."""
 
     t_s: float
-    x_m: float
-    y_m: float
-    yaw_rad: float
-    vx_mps: float
-    vy_mps: float
-    yaw_rate_radps: float
-    speed_mps: float
+    box: Kinematics
 
 
 def world_body(t_s: float, ego: Ego, body: EgoBody, frame: Frame) -> WorldBody:
@@ -70,7 +65,8 @@ def world_body(t_s: float, ego: Ego, body: EgoBody, frame: Frame) -> WorldBody:
     cx, cy = frame.to_world(ego.front_x_m - half * ego.cos_yaw, ego.front_y_m - half * ego.sin_yaw)
     motion = body.box_motion(ego)
     vx, vy = frame.rotate_to_world(motion.vx_mps, motion.vy_mps)
-    return WorldBody(t_s, cx, cy, ego.yaw_rad + frame.heading_rad, vx, vy, motion.yaw_rate_radps, ego.speed_mps)
+    return WorldBody(t_s, Kinematics(cx, cy, ego.yaw_rad + frame.heading_rad, vx, vy, motion.yaw_rate_radps,
+                                     ego.speed_mps))
 
 
 class PoseBoard:
@@ -91,16 +87,16 @@ class PuppetMotion:
         self._cache: tuple[float, WorldBody | None, BodyState | None] = (math.nan, None, None)
 
     def state(self, t_s: float) -> BodyState:
-        body = self.board.bodies[self.name]
+        entry = self.board.bodies[self.name]
         t, seen, st = self._cache
-        if t == t_s and seen is body and st is not None:
+        if t == t_s and seen is entry and st is not None:
             return st
-        dt = max(0.0, t_s - body.t_s)
+        dt, body = max(0.0, t_s - entry.t_s), entry.box
         x, y = self.frame.from_world(body.x_m + body.vx_mps * dt, body.y_m + body.vy_mps * dt)
         vx, vy = self.frame.rotate_from_world(body.vx_mps, body.vy_mps)
         yaw = body.yaw_rad + body.yaw_rate_radps * dt - self.frame.heading_rad
         st = BodyState(x, y, yaw, math.cos(yaw), math.sin(yaw), vx, vy, body.yaw_rate_radps, body.speed_mps)
-        self._cache = (t_s, body, st)
+        self._cache = (t_s, entry, st)
         return st
 
     def observe(self, t_s: float, gap_m: float, ego: EgoState) -> bool:

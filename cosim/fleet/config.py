@@ -28,7 +28,7 @@ from typing import Any, Mapping
 
 from ecu.settings import Range, SettingError, check_keys, load, load_toml, setting
 
-from ..scenarios.config import ECU_CYCLE_S, PoseConfig, Scenario
+from ..scenarios.config import PoseConfig, Scenario, ScenarioSection
 from ..scenarios.loader import scenario_from_dict
 from ..world.targets import TARGET_CLASSES
 from .bodies import Frame
@@ -42,15 +42,10 @@ VEHICLE_TABLES = ("plant", "driver", "ecu", "radar", "gateway", "road", "end", "
 
 
 @dataclass(frozen=True)
-class FleetSection:
-    """``[fleet]``: the scene's name, time, seed, and the conflict zone of the dance metrics."""
+class FleetSection(ScenarioSection):
+    """``[fleet]``: a scenario's ``[scenario]`` keys (name, duration, step, seed, start time; vehicle ``i``'s
+    random sources are seeded with ``seed + i``), and the conflict zone of the dance metrics."""
 
-    name: str = setting("fleet", doc="the scene's name (reports, plots)")
-    duration_s: float = setting(20.0, unit="s", allowed=Range(0.01, 3600.0),
-                                doc="simulated time; the scene ends here unless a contact ends it first")
-    step_s: float = setting(0.001, unit="s", allowed=Range(1e-4, ECU_CYCLE_S),
-                            doc=f"every plant's step; must divide the {ECU_CYCLE_S} s ECU cycle")
-    seed: int = setting(0, allowed=Range(0, 2**62), doc="vehicle i's random sources are seeded with seed + i")
     conflict_x_m: float = setting(0.0, unit="m", allowed=_WIDE, doc="the conflict zone's centre, world frame")
     conflict_y_m: float = setting(0.0, unit="m", allowed=_WIDE, doc="the conflict zone's centre, world frame")
     conflict_radius_m: float = setting(8.0, unit="m", allowed=Range(0.5, 1e3),
@@ -131,7 +126,7 @@ def _vehicle(i: int, table: Any, base: Mapping[str, Any], section: FleetSection,
     else:
         data["object"] = {"enabled": False}  # no cyclist by default: the others are its objects
     data["scenario"] = {"name": f"{section.name}.{placement.name}", "duration_s": section.duration_s,
-                        "step_s": section.step_s, "seed": section.seed + i}
+                        "step_s": section.step_s, "seed": section.seed + i, "start_time": section.start_time}
     ecu = data.setdefault("ecu", {})
     if isinstance(ecu, dict) and ecu.get("way_out", "none") != "none" and "way_out_patience_s" not in ecu:
         ecu["way_out_patience_s"] = patience_s(section.seed + i)

@@ -89,7 +89,7 @@ class FleetRun:
     def _row(self, t_s: float) -> None:
         row: list[float] = [t_s]
         for v in self.fleet.vehicles:
-            b = self.board.bodies[v.name]
+            b = self.board.bodies[v.name].box
             row += (b.x_m, b.y_m, b.yaw_rad, b.speed_mps)
         self.world_rows.append(tuple(row))
 

@@ -7,6 +7,7 @@ import pytest
 from cosim.errors import ConfigError
 from cosim.fleet.bodies import Frame, PoseBoard, PuppetMotion, WorldBody
 from cosim.fleet.config import fleet_from_dict, load_fleet
+from cosim.world.trajectory import Kinematics
 
 ROAD = {"y_m": 1.75, "geometry": [{"kind": "line", "length_m": 100.0}],
         "lane_sections": [{"left_m": [3.5], "right_m": [3.5]}]}
@@ -72,7 +73,7 @@ def test_frame_round_trip_and_the_puppet_seen_from_another_frame():
     x, y = f.to_world(12.0, -3.0)
     assert f.from_world(x, y) == pytest.approx((12.0, -3.0))
     board = PoseBoard()
-    board.write("b", WorldBody(1.0, 0.0, -40.0, math.pi / 2, 0.0, 8.0, 0.0, 8.0))
+    board.write("b", WorldBody(1.0, Kinematics(0.0, -40.0, math.pi / 2, 0.0, 8.0, 0.0, 8.0)))
     seen = PuppetMotion(board, "b", Frame(-40.0, 0.0, 0.0))
     st = seen.state(1.0)
     assert (st.x_m, st.y_m, st.yaw_rad, st.vx_mps, st.vy_mps) == pytest.approx((40.0, -40.0, math.pi / 2, 0.0, 8.0))
