@@ -5,6 +5,10 @@ For each strategy of the run (or those named with ``--strategy``) it writes
 in the run directory; ``--out FILE`` names the video when one strategy is drawn, and its
 suffix (``.mp4``, ``.gif``) picks the format. What the view reads from the run directory
 is documented in ``docs/run-format.md``; runs of today's 1-D world work as they are.
+
+On a fleet run directory (``crd fleet --out``, told by its ``fleet.json``) it writes ``fleet.mp4``
+(``--gif``: ``fleet.gif``) and ``fleet.png`` (at ``--at-s``, default the end) showing every car
+(:mod:`cosim.fleet.video`).
 """
 
 from __future__ import annotations
@@ -21,7 +25,7 @@ FORMAT_DEFAULTS = {".mp4": (25.0, 1280), ".gif": (12.5, 640)}
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p = subparsers.add_parser("animate", help="bird's-eye video (MP4/GIF) and plot of a run directory")
-    p.add_argument("run_dir", type=Path, help="output directory of crd run/paper (--out)")
+    p.add_argument("run_dir", type=Path, help="output directory of crd run/paper/fleet (--out)")
     p.add_argument("--strategy", action="append", default=None, help="only this strategy (repeatable)")
     p.add_argument("--out", type=Path, default=None, help="the video file (one strategy); .mp4 or .gif")
     p.add_argument("--gif", action="store_true", help="write a GIF instead of an MP4")
@@ -30,7 +34,8 @@ def add_subparser(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--view-m", type=float, default=60.0, help="width of the view that follows the ego (m)")
     p.add_argument("--playback", type=float, default=1.0, help="simulated seconds per video second")
     p.add_argument("--hold-s", type=float, default=1.0, help="hold the last frame this long (s)")
-    p.add_argument("--no-png", action="store_true", help="do not write birdseye.png")
+    p.add_argument("--no-png", action="store_true", help="do not write birdseye.png (fleet: fleet.png)")
+    p.add_argument("--at-s", type=float, default=None, help="fleet: the time fleet.png shows (default: the end)")
     p.set_defaults(func=_do_animate)
 
 
@@ -45,17 +50,38 @@ def _targets(args: argparse.Namespace, strategies: list[str]) -> dict[str, Path]
     return {strategies[0]: args.out}
 
 
-def _do_animate(args: argparse.Namespace) -> int:
+def _options(args: argparse.Namespace, video: Path):
     from ..results.birdseye_video import VideoOptions
+
+    fps, width = FORMAT_DEFAULTS.get(video.suffix.lower(), FORMAT_DEFAULTS[".mp4"])
+    return VideoOptions(args.fps or fps, args.width or width, args.view_m, args.hold_s, args.playback)
+
+
+def _animate_fleet(args: argparse.Namespace) -> list[str]:
+    """A fleet run directory: ``fleet.mp4`` / ``fleet.gif`` (or ``--out``) and ``fleet.png``."""
+    from ..fleet.video import animate_fleet
+
+    if args.strategy:
+        raise ConfigError(f"--strategy: {args.run_dir} is a fleet run (every car is drawn; it has no strategies)")
+    video = args.out or args.run_dir / ("fleet.gif" if args.gif else "fleet.mp4")
+    return animate_fleet(args.run_dir, video, _options(args, video), png=not args.no_png, at_s=args.at_s)
+
+
+def _animate_run(args: argparse.Namespace) -> list[str]:
+    """A run directory: each strategy's video and plot."""
     from ..results.run_view import load_run_view
 
-    start = time.perf_counter()
     view = load_run_view(args.run_dir, args.strategy)
-    for strategy, video in _targets(args, list(view.tracks)).items():
-        fps, width = FORMAT_DEFAULTS.get(video.suffix.lower(), FORMAT_DEFAULTS[".mp4"])
-        options = VideoOptions(args.fps or fps, args.width or width, args.view_m, args.hold_s, args.playback)
-        for line in _draw(view, strategy, video, options, png=not args.no_png):
-            print(line)
+    return [line for strategy, video in _targets(args, list(view.tracks)).items()
+            for line in _draw(view, strategy, video, _options(args, video), png=not args.no_png)]
+
+
+def _do_animate(args: argparse.Namespace) -> int:
+    from ..fleet.run_view import is_fleet_dir
+
+    start = time.perf_counter()
+    for line in (_animate_fleet if is_fleet_dir(args.run_dir) else _animate_run)(args):
+        print(line)
     print(f"done in {time.perf_counter() - start:.1f} s")
     return 0
 

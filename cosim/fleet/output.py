@@ -8,6 +8,8 @@
 * ``world.csv``: every vehicle's box centre, heading and speed in the world frame, one row per ECU cycle;
 * ``metrics.json``: the status (running, complete, error, interrupted), each vehicle's metrics and the
   dance figures (:mod:`cosim.fleet.dance_metrics`); written before the run and on every way out;
+* ``fleet.json``: the scene for its bird's-eye view (``crd animate``): each vehicle's frame, box and road in the
+  world, the objects, the conflict zone (:mod:`cosim.fleet.scene_file`);
 * ``speeds.png``: every vehicle's speed against time, its contingencies shaded;
 * ``report.md``: the dance table and the plot.
 """
@@ -26,6 +28,7 @@ from ..results.writer import package_version, write_events, write_json_atomic
 from .config import Fleet
 from .dance_metrics import SceneDance, scene_dance
 from .lockstep import FleetRecord, FleetRun
+from .scene_file import FLEET_SCENE_FILE, fleet_scene_of, write_fleet_scene
 
 Show = Callable[[float, float], None]
 
@@ -110,6 +113,7 @@ def _write_files(out_dir: Path, fleet: Fleet, run: FleetRun, record: FleetRecord
     for v, loop in zip(fleet.vehicles, run.loops):
         write_events(out_dir / v.name / "events.json", loop.record)
     _write_world(out_dir / "world.csv", fleet, run.world_rows)
+    write_fleet_scene(out_dir / FLEET_SCENE_FILE, fleet_scene_of(fleet))
     if record is not None and dance is not None:
         from .plots import speeds_plot
         from .report import write_fleet_report

@@ -34,23 +34,33 @@ def object_color(body: Body) -> str:
     return OBJECT_COLORS.get(body.kind, "tab:gray")
 
 
-def draw_road(ax, road: Road | None, step_m: float = 1.0) -> None:
-    """The road surface, its edges (solid) and the lane borders within it (dashed)."""
-    if road is None:
-        return
+def road_lines(road: Road, step_m: float = 1.0) -> tuple[np.ndarray, np.ndarray, list[np.ndarray]]:
+    """The road's left and right edges and its markings (the lane borders within it, and the centre line between
+    its two directions), each an (n, 2) polyline."""
     left, right = road.edges(step_m)
-    surface = np.vstack([left, right[::-1]])
-    ax.fill(surface[:, 0], surface[:, 1], color=ROAD_COLOR, zorder=0, lw=0)
-    for edge in (left, right):
-        ax.plot(edge[:, 0], edge[:, 1], color=EDGE_COLOR, lw=1.2, zorder=1)
     s = np.linspace(0.0, road.length_m, max(2, int(road.length_m / step_m) + 1))
     inner = [lane for lane in road.lane_ids() if lane not in (max(road.lane_ids()), min(road.lane_ids()))]
     lines = [road.lane_border_line(lane, step_m) for lane in inner]
     if any(lane > 0 for lane in road.lane_ids()) and any(lane < 0 for lane in road.lane_ids()):
         x, y, _ = road.pose(s, 0.0)
         lines.append(np.column_stack([x, y]))
-    for line in lines:
+    return left, right, lines
+
+
+def draw_road_lines(ax, left: np.ndarray, right: np.ndarray, markings: Sequence[np.ndarray]) -> None:
+    """A road's surface between its edges, the edges (solid) and the markings (dashed)."""
+    surface = np.vstack([left, right[::-1]])
+    ax.fill(surface[:, 0], surface[:, 1], color=ROAD_COLOR, zorder=0, lw=0)
+    for edge in (left, right):
+        ax.plot(edge[:, 0], edge[:, 1], color=EDGE_COLOR, lw=1.2, zorder=1)
+    for line in markings:
         ax.plot(line[:, 0], line[:, 1], color=MARKING_COLOR, lw=1.2, ls=(0, (6, 6)), zorder=1)
+
+
+def draw_road(ax, road: Road | None, step_m: float = 1.0) -> None:
+    """The road surface, its edges (solid) and the lane borders within it (dashed)."""
+    if road is not None:
+        draw_road_lines(ax, *road_lines(road, step_m))
 
 
 def box_patch(ax, body: Body, color: str, **style):

@@ -17,8 +17,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol
 
 import numpy as np
+from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
@@ -122,7 +124,7 @@ class _Frame:
         ax.set_xticks([])
         ax.set_yticks([])
         ax.set_aspect("auto")
-        _scale_bar(self.fig, ax, self.options.view_m)
+        scale_bar(self.fig, ax, self.options.view_m)
         self.fig.text(0.02, 0.94, f"{view.path.name}: {track.strategy} (bird's-eye view, x right, y up)", fontsize=12)
         strip = self.fig.add_axes((0.06, 0.07, 0.62, 0.16))
         strip.plot(track.t_s, track.speed_mps * 3.6, color=EGO_COLOR, lw=1.2)
@@ -222,7 +224,7 @@ def _shade_modes(ax, track: StrategyTrack) -> None:
             start = j
 
 
-def _scale_bar(fig, ax, view_m: float) -> None:
+def scale_bar(fig, ax, view_m: float) -> None:
     """A bar of a round number of metres (about a sixth of the view) under the view's lower left corner.
 
     Drawn once with the figure: the view is always ``view_m`` wide (:func:`set_view`), so a metre is always
@@ -235,26 +237,41 @@ def _scale_bar(fig, ax, view_m: float) -> None:
     fig.text(x1 + 0.008, y, f"{length} m", va="center", fontsize=10)
 
 
+def video_params(path: Path, options: VideoOptions) -> dict:
+    """The ffmpeg writer parameters of the format ``path``'s suffix picks (:data:`VIDEO_FORMATS`)."""
+    make = VIDEO_FORMATS.get(Path(path).suffix.lower())
+    if make is None:
+        raise ConfigError(f"{path}: expected a video suffix in {sorted(VIDEO_FORMATS)}, got {path.suffix or 'none'!r}")
+    return make(options.fps)
+
+
 def render_video(view: RunView, strategy: str, path: Path, options: VideoOptions = VideoOptions()) -> int:
     """Write the video of one strategy's run to ``path`` (its suffix picks the format); the number of frames."""
     path = Path(path)
-    make = VIDEO_FORMATS.get(path.suffix.lower())
-    if make is None:
-        raise ConfigError(f"{path}: expected a video suffix in {sorted(VIDEO_FORMATS)}, got {path.suffix or 'none'!r}")
+    params = video_params(path, options)
     track = view.tracks[strategy]
     with _pyplot().rc_context(FAST_TEXT):
-        return _write_frames(view, track, path, options, make(options.fps))
+        frame = _Frame(view, track, options)
+        return encode_frames(frame, frame_indices(track.t_s, options.fps, options.playback), path, options, params)
 
 
 #: text without hinting: half the cost of each changing text, which is most of a frame (a video needs no hinting)
 FAST_TEXT = {"text.hinting": "none"}
 
 
-def _write_frames(view: RunView, track: StrategyTrack, path: Path, options: VideoOptions, params: dict) -> int:
+class FrameDrawer(Protocol):
+    """A figure built once whose ``draw(j)`` moves its artists to sample ``j`` and gives the canvas's RGBA buffer."""
+
+    fig: Figure
+
+    def draw(self, j: int) -> memoryview: ...
+
+
+def encode_frames(frame: FrameDrawer, indices: np.ndarray, path: Path, options: VideoOptions, params: dict) -> int:
+    """Draw the samples ``indices`` into ffmpeg's pipe, then hold the last ``options.hold_s``; the number of frames.
+    Closes the figure."""
     import imageio_ffmpeg
 
-    frame = _Frame(view, track, options)
-    indices = frame_indices(track.t_s, options.fps, options.playback)
     writer = imageio_ffmpeg.write_frames(str(path), (options.width_px, options.height_px), pix_fmt_in="rgba",
                                          macro_block_size=2, ffmpeg_log_level="error", **params)
     writer.send(None)  # start ffmpeg

@@ -96,8 +96,13 @@ def metrics_runs(run_dir: Path) -> list[dict]:
     """The ``runs`` of ``metrics.json``; a ConfigError when the directory is not a run's."""
     metrics = run_dir / "metrics.json"
     if not metrics.is_file():
-        raise ConfigError(f"{run_dir}: not a crd run directory (expected {metrics.name} from crd run/paper --out)")
-    return json.loads(metrics.read_text())["runs"]
+        raise ConfigError(f"{run_dir}: not a crd run directory (expected {metrics.name} from crd run/paper --out, "
+                          "or fleet.json from crd fleet --out)")
+    runs = json.loads(metrics.read_text()).get("runs")
+    if not isinstance(runs, list):
+        raise ConfigError(f"{run_dir}: not a crd run directory ({metrics.name} has no runs; a crd fleet directory "
+                          "has fleet.json: run crd fleet again)")
+    return runs
 
 
 def collision_event(run_dir: Path, strategy: str) -> dict | None:

@@ -88,7 +88,7 @@ def scene_of(scenario: Scenario) -> SceneFile:
 
 
 # -- reading -------------------------------------------------------------------------------------------
-class _Reader:
+class JsonReader:
     """Typed access to a JSON tree, with errors naming the key path and the file."""
 
     def __init__(self, source: str) -> None:
@@ -119,7 +119,7 @@ class _Reader:
         return data
 
 
-def _segment(r: _Reader, data: Any, where: str) -> Placed:
+def _segment(r: JsonReader, data: Any, where: str) -> Placed:
     kind = data.get("kind") if isinstance(data, dict) else None
     if kind not in SEGMENT_KINDS:
         raise r.fail(f"{where}.kind", f"one of {sorted(SEGMENT_KINDS)}", kind)
@@ -134,7 +134,7 @@ def _segment(r: _Reader, data: Any, where: str) -> Placed:
     return Placed(*(r.number(data, k, where) for k in ("s_m", "x_m", "y_m", "heading_rad")), segment)
 
 
-def _lane(r: _Reader, data: Any, lane_id: int, where: str) -> Lane:
+def _lane(r: JsonReader, data: Any, lane_id: int, where: str) -> Lane:
     r.table(data, where, {"type", "widths", "width_m"}, set())
     if "width_m" in data:
         widths = (LaneWidth(0.0, r.number(data, "width_m", where)),)
@@ -149,7 +149,7 @@ def _lane(r: _Reader, data: Any, lane_id: int, where: str) -> Lane:
 
 def road_from_dict(data: Any, source: str = "scene.json", where: str = "road") -> Road:
     """The road of a ``road`` table (see ``docs/run-format.md``)."""
-    r = _Reader(source)
+    r = JsonReader(source)
     r.table(data, where, {"geometry", "lane_sections"}, {"geometry", "lane_sections"})
     placed = tuple(_segment(r, g, f"{where}.geometry[{i}]") for i, g in enumerate(r.items(data["geometry"], f"{where}.geometry")))
     sections = []
@@ -165,7 +165,7 @@ def road_from_dict(data: Any, source: str = "scene.json", where: str = "road") -
         raise ConfigError(f"{source}: {where}: {exc}") from None
 
 
-def _body(r: _Reader, data: Any, where: str, default_kind: str) -> Body:
+def _body(r: JsonReader, data: Any, where: str, default_kind: str) -> Body:
     r.table(data, where, {"name", "class", "length_m", "width_m", "front_m"}, {"length_m", "width_m"})
     length, width = r.number(data, "length_m", where), r.number(data, "width_m", where)
     if length <= 0.0 or width <= 0.0:
@@ -174,17 +174,23 @@ def _body(r: _Reader, data: Any, where: str, default_kind: str) -> Body:
                 r.number(data, "front_m", where, length / 2.0))
 
 
-def read_scene(path: Path) -> SceneFile:
-    """``scene.json`` at ``path``; a :class:`ConfigError` naming the key and the file for bad input."""
-    path = Path(path)
+def read_json_table(path: Path, fmt: str, keys: set[str], required: set[str]) -> tuple[dict, JsonReader]:
+    """The top table of the JSON file at ``path`` (its ``format`` ``fmt``, its ``keys``, of which ``required``),
+    and a reader for the rest; a :class:`ConfigError` naming the key and the file for bad input."""
     try:
-        data = json.loads(path.read_text())
+        data = json.loads(Path(path).read_text())
     except json.JSONDecodeError as exc:
         raise ConfigError(f"{path}: not JSON: {exc}") from None
-    r = _Reader(str(path))
-    r.table(data, "scene", {"format", "road", "ego", "objects"}, {"format", "ego"})
-    if data["format"] != SCENE_FORMAT:
-        raise r.fail("format", repr(SCENE_FORMAT), data["format"])
+    r = JsonReader(str(path))
+    r.table(data, "scene", keys | {"format"}, required | {"format"})
+    if data["format"] != fmt:
+        raise r.fail("format", repr(fmt), data["format"])
+    return data, r
+
+
+def read_scene(path: Path) -> SceneFile:
+    """``scene.json`` at ``path``; a :class:`ConfigError` naming the key and the file for bad input."""
+    data, r = read_json_table(path, SCENE_FORMAT, {"road", "ego", "objects"}, {"ego"})
     road = None if data.get("road") is None else road_from_dict(data["road"], str(path))
     objects = tuple(_body(r, o, f"objects[{i}]", "object") for i, o in enumerate(r.items(data.get("objects", []), "objects")))
     return SceneFile(road, _body(r, data["ego"], "ego", "ego"), objects)
