@@ -2,7 +2,8 @@
 
 A planar run's ``timeseries.csv`` carries the last ``EcuRegionStatus`` the ECU sent
 (``REGION_COLUMNS``, :mod:`cosim.results.run_record`): the contingency, the chosen path's curvature
-and its stopping distance. At each row where that report changes, the view draws the stopping
+and its stopping distance. At each row where that report changes, and at every row while a path is
+reported (the band moves with the car while the report is held), the view draws the stopping
 path as the ECU chose it: a band of the ego's width from its front bumper along an arc of that
 curvature, as long as the stopping distance (the arc from the front bumper, not from the rear
 axle the ECU's paths start at: a drawing aid), labelled with the contingency's DBC name. A report
@@ -45,15 +46,17 @@ def stopping_band(pose: tuple[float, float, float], body: Body, curvature_1pm: f
 
 def regions_from_columns(columns: dict[str, list[str]], t_s: np.ndarray, pose: np.ndarray,
                          body: Body) -> tuple[np.ndarray, tuple[np.ndarray, ...], tuple[str, ...]] | None:
-    """(times, polygons, labels) at every row whose region report changed; None when the run has no region columns."""
+    """(times, polygons, labels) at every row whose region report changed or that reports a path (the module
+    docstring); None when the run has no region columns."""
     if not all(name in columns for name in _COLUMNS):
         return None
     kind, curvature, stopping = (np.array(columns[name], dtype=float) for name in _COLUMNS)
     report = np.column_stack([kind, curvature, stopping])
     changed = np.ones(len(t_s), dtype=bool)
     changed[1:] = np.any((report[1:] != report[:-1]) & ~(np.isnan(report[1:]) & np.isnan(report[:-1])), axis=1)
+    reported = np.isfinite(kind) & np.isfinite(curvature) & np.isfinite(stopping)
     times, polygons, labels = [], [], []
-    for j in np.flatnonzero(changed):
+    for j in np.flatnonzero(changed | reported):
         name = CONTINGENCY_NAMES.get(int(kind[j]), "") if math.isfinite(kind[j]) else ""
         drawn = name not in ("", "NOT_EVALUATED") and math.isfinite(curvature[j]) and math.isfinite(stopping[j])
         times.append(float(t_s[j]))

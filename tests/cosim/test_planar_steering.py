@@ -80,7 +80,8 @@ def test_steering_avoids_what_braking_cannot_and_only_with_authority(fmu):
 
 def test_the_birdseye_draws_the_reported_stopping_path():
     """The region columns become a band of the ego's width along the reported arc, labelled with the contingency;
-    NOT_EVALUATED and rows before the first report draw nothing; only changed reports make a polygon."""
+    NOT_EVALUATED and rows before the first report draw nothing; a report held over several rows is drawn at each
+    of them, from the car's pose there (the band moves with the car)."""
     import numpy as np
 
     from cosim.results.region_view import regions_from_columns, stopping_band
@@ -90,9 +91,12 @@ def test_the_birdseye_draws_the_reported_stopping_path():
     cols = {"region_contingency": ["nan", "4", "0", "0", "2"], "region_curvature_1pm": ["nan", "0", "0", "0", "0.1"],
             "region_stopping_m": ["nan", "0", "10", "10", "5"]}
     t_s, pose = np.arange(5) * 0.1, np.zeros((5, 3))
+    pose[3, 0] = 1.5  # the car has moved on while the report is held
     times, polygons, labels = regions_from_columns(cols, t_s, pose, body)
-    assert list(times) == pytest.approx([0.0, 0.1, 0.2, 0.4]) and labels == ("", "", "DRIVER_PATH", "STEER_AND_BRAKE")
+    assert list(times) == pytest.approx([0.0, 0.1, 0.2, 0.3, 0.4])
+    assert labels == ("", "", "DRIVER_PATH", "DRIVER_PATH", "STEER_AND_BRAKE")
     assert len(polygons[0]) == len(polygons[1]) == 0
+    assert polygons[3][:, 0] - polygons[2][:, 0] == pytest.approx(np.full(len(polygons[2]), 1.5))
     straight = polygons[2]
     assert straight[:, 0].min() == pytest.approx(2.0) and straight[:, 0].max() == pytest.approx(12.0)  # from the front
     assert straight[:, 1].min() == pytest.approx(-1.0) and straight[:, 1].max() == pytest.approx(1.0)
