@@ -61,21 +61,28 @@ def footprint(paths: PathSet, params: RegionParams) -> Footprint:
 
 
 def gaps(paths: PathSet, objects: ObjectSet, box: Footprint) -> np.ndarray:
-    """Separation ``g`` (m) of every row, pose and object, shape ``(N, M, K)`` (module docstring).
+    """Separation ``g`` (m) of every row, pose and object, shape ``(N, M, K)`` (module docstring): a view of
+    :func:`object_gaps`."""
+    return object_gaps(paths, objects, box).transpose(1, 2, 0)
+
+
+def object_gaps(paths: PathSet, objects: ObjectSet, box: Footprint) -> np.ndarray:
+    """Separation ``g`` (m) of every object, row and pose, shape ``(K, N, M)`` (module docstring).
 
     Complex arithmetic: the object's centre in the pose's frame is ``(o - z) conj(h)`` and the heading
-    difference ``conj(u) h`` (``z, h`` the pose's position and heading, ``o, u`` the object's)."""
-    heading = paths.heading[..., None]
-    local = (objects.centre - paths.position[..., None]) * np.conj(heading)
-    turn = objects.axis_conj * heading
+    difference ``conj(u) h`` (``z, h`` the pose's position and heading, ``o, u`` the object's). Objects
+    first: the rows and poses, contiguous, make each operation's inner loop (``N M`` long, not ``K``)."""
+    heading = paths.heading
+    local = (objects.centre[:, None, None] - paths.position) * np.conj(heading)
+    turn = objects.axis_conj[:, None, None] * heading
     rc, rs = np.abs(turn.real), np.abs(turn.imag)
-    a, b = objects.half_length_m, objects.half_width_m
-    gx = np.abs(local.real - box.mid_x_m)
-    gx -= box.half_x_m
+    a, b = objects.half_length_m[:, None, None], objects.half_width_m[:, None, None]
+    gx = np.abs(local.real - box.mid_x_m[..., 0])
+    gx -= box.half_x_m[..., 0]
     gx -= a * rc
     gx -= b * rs
     gy = np.abs(local.imag)
-    gy -= box.half_y_m
+    gy -= box.half_y_m[..., 0]
     gy -= a * rs
     gy -= b * rc
     return np.maximum(gx, gy, out=gx)

@@ -32,8 +32,12 @@ class Road(NamedTuple):
 
 
 def lateral_offsets(road: Road, points: np.ndarray) -> np.ndarray:
-    """``e`` of complex points ``x + iy`` (module docstring), same shape."""
-    rotated = points * complex(math.cos(road.heading_rad), -math.sin(road.heading_rad))
+    """``e`` of complex points ``x + iy`` (module docstring), same shape; a reference line along the ego's heading
+    (``psi = 0``, the ECU's assumed road) needs no rotation, a straight one no curvature term (both exact)."""
+    rotated = points if road.heading_rad == 0.0 else points * complex(math.cos(road.heading_rad),
+                                                                      -math.sin(road.heading_rad))
+    if road.curvature_1pm == 0.0:
+        return rotated.imag
     t = rotated.real
     return rotated.imag - (0.5 * road.curvature_1pm) * (t * t)
 
