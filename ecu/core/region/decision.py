@@ -211,7 +211,7 @@ def _steering_rows(ego: EgoState, road_curvature_1pm: float, params: RegionParam
                    base: RegionDecision) -> tuple[Evaluation, np.ndarray, float]:
     """(the steering rows, their impact speeds, the lane row's impact speed): from ``whole`` if it holds them,
     else evaluated now."""
-    if len(whole.clearance) > FIRST_STEER:
+    if len(whole.clearance) > len(base.paths.curvature_1pm):
         speeds = impact_speeds_mps(whole.paths, whole.per_pose)
         return whole.rows(slice(FIRST_STEER, None)), speeds[FIRST_STEER:], float(speeds[LANE])
     steering, _ = evaluate(ego, road_curvature_1pm, base.objects, params, (False, True))
@@ -223,11 +223,18 @@ def decide(ego: EgoState, tracks: Sequence[TrackBox], road: Road | None, params:
            steer: bool = True) -> RegionDecision:
     """The rules of the module docstring; the steering rows only with ``steer`` (steering authority), judged only
     when rules 1 and 2 fail, and built with the base rows (one evaluation costs less than two) when an object
-    is :func:`within_reach`, else after them when needed."""
+    is :func:`within_reach`, else after them when needed (:func:`decide_boxes`)."""
     boxes = [object_box(track, ego.speed_mps, params) for track in tracks]
+    return decide_boxes(ego, boxes, road, params, (steer, steer and within_reach(ego, boxes, params)))
+
+
+def decide_boxes(ego: EgoState, boxes: Sequence[tuple[float, ...]], road: Road | None, params: RegionParams,
+                 steer: tuple[bool, bool]) -> RegionDecision:
+    """:func:`decide` over :func:`ecu.core.region.objects.object_box` es; ``steer``: (steering authority, the
+    steering rows evaluated with the base rows)."""
     objects, road_k = boxes_as_set(boxes), 0.0 if road is None else road.curvature_1pm
-    whole, driver_gaps = evaluate(ego, road_k, objects, params, (True, steer and within_reach(ego, boxes, params)))
-    first = whole.rows(slice(None, FIRST_STEER)) if len(whole.clearance) > FIRST_STEER else whole
+    whole, driver_gaps = evaluate(ego, road_k, objects, params, (True, steer[1]))
+    first = whole.rows(slice(None, FIRST_STEER)) if steer[1] else whole
     paths, clearance = first.paths, first.clearance
     driver_disjoint = bool(clearance[DRIVER] >= 0.0)
     base = RegionDecision(Contingency.DRIVER_PATH, DRIVER, float(paths.curvature_1pm[DRIVER]), 0.0,
@@ -238,7 +245,7 @@ def decide(ego: EgoState, tracks: Sequence[TrackBox], road: Road | None, params:
         return base
     if clearance[LANE] >= 0.0 and paths.feasible[LANE]:
         return _result(Contingency.BRAKE_IN_LANE, LANE, (paths, first.box, objects, params, base), clearance, 0.0)
-    if not steer:
+    if not steer[0]:
         return _lane_least_impact(params, base, (float(clearance[LANE]),
                                                  float(impact_speeds_mps(paths, first.per_pose)[LANE])))
     steering, speeds, lane_speed = _steering_rows(ego, road_k, params, whole, base)

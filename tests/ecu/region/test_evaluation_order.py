@@ -6,8 +6,8 @@ import pytest
 
 from ecu.core import CoreParams
 from ecu.core.region import EgoState, Road, TrackBox, decide, region_params
-from ecu.core.region import decision as decision_module
-from ecu.core.region.decision import driver_disjoint_without
+from ecu.core.region.decision import decide_boxes, driver_disjoint_without
+from ecu.core.region.objects import object_box
 
 P = region_params(CoreParams())
 ROAD = Road((-5.25, -1.75, 1.75, 5.25))
@@ -32,14 +32,13 @@ def _fields(d):
             for f in (*d[:10], *d.paths, *d.box, *d.objects, d.steering, d.driver_gaps_m)]
 
 
-def test_steering_rows_built_with_the_base_rows_or_after_them_decide_alike(monkeypatch):
+def test_steering_rows_built_with_the_base_rows_or_after_them_decide_alike():
     kinds = set()
     for ego, tracks in _scenes(150, seed=3):
-        monkeypatch.setattr(decision_module, "within_reach", lambda *_: True)
-        together = decide(ego, tracks, ROAD, P)
-        monkeypatch.setattr(decision_module, "within_reach", lambda *_: False)
-        after = decide(ego, tracks, ROAD, P)
-        assert _fields(together) == _fields(after)
+        boxes = [object_box(t, ego.speed_mps, P) for t in tracks]
+        together = decide_boxes(ego, boxes, ROAD, P, (True, True))
+        after = decide_boxes(ego, boxes, ROAD, P, (True, False))
+        assert _fields(together) == _fields(after) == _fields(decide(ego, tracks, ROAD, P))
         kinds.add(together.kind.name)
     assert kinds == {"DRIVER_PATH", "BRAKE_IN_LANE", "STEER_AND_BRAKE", "LEAST_IMPACT"}
 
