@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import bisect
 import math
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 
@@ -62,4 +62,4 @@ def allowed_span(road: Road, object_offsets_m: np.ndarray) -> tuple[float, float
 def on_road(road: Road, corners: np.ndarray, span: tuple[float, float]) -> np.ndarray:
     """Per row: every corner of every footprint box (complex, shape ``(N, M, 4)``) lies within ``span``."""
     e = lateral_offsets(road, corners)
-    return ((e >= span[0]) & (e <= span[1])).all(axis=(1, 2))
+    return cast(np.ndarray, ((e >= span[0]) & (e <= span[1])).all(axis=(1, 2)))
