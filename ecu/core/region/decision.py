@@ -109,10 +109,10 @@ def contingency_decel_mps2(paths: PathSet, row: int, params: RegionParams) -> fl
 def impact_speeds_mps(paths: PathSet, per_pose: np.ndarray) -> np.ndarray:
     """Per row: the speed at the start of the first box that touches an object (0 if none touches)."""
     hit = per_pose < 0.0
-    first = hit.argmax(axis=1)
-    s_prev = paths.stop_m * (first / per_pose.shape[1])
-    speed = speed_at_mps(paths, s_prev)
-    return np.where(hit.any(axis=1), speed, 0.0)
+    samples = per_pose.shape[1]
+    stops: list[float] = paths.stop_m.tolist()
+    s_prev = [stop * (first / samples) for stop, first in zip(stops, hit.argmax(axis=1).tolist())]
+    return np.where(hit.any(axis=1), speed_at_mps(paths, s_prev), 0.0)
 
 
 def admissible_steering(paths: PathSet, box: Footprint, objects: ObjectSet, road: Road | None) -> np.ndarray:
