@@ -21,15 +21,19 @@ class StaleCompiledCore(ImportError):
 
 
 def stale_modules(core_dir: str = CORE_DIR) -> list[str]:
-    """The compiled core modules whose source is newer (by more than :data:`TOLERANCE_S`)."""
+    """The compiled core modules (``ecu/core`` and its ``region``) whose source is newer (by more than
+    :data:`TOLERANCE_S`), as paths under ``core_dir`` without ``.py``."""
     stale = []
-    for entry in os.scandir(core_dir):
-        name, _, suffix = entry.name.partition(".")
-        if not suffix.endswith(".so") or name.startswith("_compiled"):
+    for folder, prefix in ((core_dir, ""), (os.path.join(core_dir, "region"), "region/")):
+        if not os.path.isdir(folder):
             continue
-        source = os.path.join(core_dir, f"{name}.py")
-        if os.path.exists(source) and os.stat(source).st_mtime > entry.stat().st_mtime + TOLERANCE_S:
-            stale.append(name)
+        for entry in os.scandir(folder):
+            name, _, suffix = entry.name.partition(".")
+            if not suffix.endswith(".so") or name.startswith("_compiled"):
+                continue
+            source = os.path.join(folder, f"{name}.py")
+            if os.path.exists(source) and os.stat(source).st_mtime > entry.stat().st_mtime + TOLERANCE_S:
+                stale.append(prefix + name)
     return sorted(stale)
 
 
@@ -39,4 +43,4 @@ def check(core_dir: str = CORE_DIR) -> None:
     if stale:
         names = ", ".join(f"ecu/core/{name}.py" for name in stale)
         raise StaleCompiledCore(f"{names}: newer than the compiled core (setup.py, mypyc); run pip install -e . "
-                                f"again, or delete ecu/core/*.so to run the sources")
+                                f"again, or delete ecu/core/*.so and ecu/core/region/*.so to run the sources")

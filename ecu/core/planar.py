@@ -18,7 +18,8 @@ planar tracks in the inputs (``RadarTrack`` slots; none: this module does nothin
 5. **What it adds to braking**: the driver's stopping path must also be disjoint from every track
    the line does not judge (:func:`line_track`: the 1-D object, when it is relevant, is the line's).
    Only when the decision over every track is not disjoint is that second check run (a subset of
-   disjoint objects is disjoint).
+   disjoint objects is disjoint), on the per-object gaps the decision already holds
+   (:func:`ecu.core.region.decision.driver_disjoint_without`).
 
 So a run whose only track is the 1-D object in our path is decided by the 1-D core alone; an
 object off the path, standing, cannot touch the straight stopping path of a car whose wheel is
@@ -42,6 +43,7 @@ from .plan import Plan
 from .relevance import in_path
 from .region import EgoState, RegionDecision, Road, TrackBox, decide
 from .region.crossing import crossing_proximity
+from .region.decision import driver_disjoint_without
 from .region.paths import current_curvature
 from .types import CoreInputs, RegionReport
 
@@ -106,9 +108,7 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     decision = decide(ego, boxes, road, params.region, steer=params.steering_authority)
     off_axis = True
     if not decision.driver_disjoint and plan.disjoint:
-        line = line_track(tracks, inputs, params)
-        others = boxes if line is None else boxes[:line] + boxes[line + 1:]
-        off_axis = not others or decide(ego, others, road, params.region, steer=False).driver_disjoint
+        off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, params))
     crossing = 0.0 if impatient else \
         crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
                            0.0 if params.way_out == "none" else params.way_out_path_m)

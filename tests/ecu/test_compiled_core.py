@@ -23,5 +23,14 @@ def test_a_source_newer_than_its_compiled_module_is_refused_with_its_name(tmp_pa
         compiled_core.check(str(tmp_path))
 
 
+def test_a_stale_region_module_is_named_by_its_path(tmp_path):
+    (tmp_path / "region").mkdir()
+    _touch(tmp_path / "region" / "decision.cpython-311-x86_64-linux-gnu.so", 1000.0)
+    _touch(tmp_path / "region" / "decision.py", 1000.0 + compiled_core.TOLERANCE_S + 1.0)
+    _touch(tmp_path / "region" / "_compiled__mypyc.cpython-311-x86_64-linux-gnu.so", 1.0)
+    with pytest.raises(ImportError, match=r"^ecu/core/region/decision\.py: newer than the compiled core"):
+        compiled_core.check(str(tmp_path))
+
+
 def test_the_installed_core_is_not_stale():
     assert compiled_core.stale_modules() == []

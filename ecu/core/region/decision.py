@@ -16,6 +16,14 @@ would not be. The choice, in the issue's order:
 Without a road every steering row is admissible; without steering authority (``steer=False``) none is,
 and rule 4 takes the lane row. The contingency kinds are the DBC's ``EcuRegionStatus.Contingency``
 values (its ``VAL_`` adds ``NOT_EVALUATED``, sent without planar tracks; a test keeps the two equal).
+
+**Cost** (issue 22: the step with 8 tracks within 100 µs): numpy's per-call overhead, not arithmetic, so
+the work is a few calls on whole arrays (:func:`evaluate`: one family, one footprint, one separation of
+every object, row and pose). When an object is :func:`within_reach` the steering rows are evaluated
+with the base rows in one call (one evaluation of 16 rows costs less than two of 3 and 13), else only
+if rules 1 and 2 fail; either order gives the same decision (``tests/ecu/region/test_evaluation_order.py``).
+The driver's gaps to each object are kept (``driver_gaps_m``), so :mod:`ecu.core.planar` judges the
+driver's path over a subset of the tracks without a second evaluation (:func:`driver_disjoint_without`).
 """
 
 from __future__ import annotations
@@ -26,10 +34,11 @@ from typing import NamedTuple, Sequence
 
 import numpy as np
 
-from .objects import ObjectSet, TrackBox, object_set
-from .overlap import Footprint, corner_points, footprint, gaps, speed_at_mps
-from .params import RegionParams
-from .paths import DRIVER, LANE, NOMINAL, EgoState, PathSet, path_family
+from ..stopping_path import stopping_distance_m
+from .objects import ObjectSet, TrackBox, boxes_as_set, object_box
+from .overlap import Footprint, corner_points, footprint, object_gaps, speed_at_mps
+from .params import GRAVITY_MPS2, RegionParams
+from .paths import DRIVER, FIRST_STEER, LANE, NOMINAL, EgoState, PathSet, current_curvature, path_family
 from .road import Road, allowed_span, lateral_offsets, on_road
 
 
@@ -63,15 +72,24 @@ class RegionDecision(NamedTuple):
     objects: ObjectSet
     #: the chosen path is a steering row (STEER_AND_BRAKE, or LEAST_IMPACT on a steering row)
     steering: bool = False
+    #: per object and pose, the driver's row's gaps ``(K, M)`` (:func:`driver_disjoint_without`)
+    driver_gaps_m: np.ndarray = np.empty((0, 0))
 
 
 def clearances(paths: PathSet, objects: ObjectSet, box: Footprint) -> tuple[np.ndarray, np.ndarray]:
     """(per row and pose the smallest gap ``(N, M)``, per row the clearance ``(N,)``); +inf without objects."""
+    per_pose, clearance, _ = separations(paths, objects, box)
+    return per_pose, clearance
+
+
+def separations(paths: PathSet, objects: ObjectSet, box: Footprint) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`clearances` and, per object and pose, the driver's row's gaps ``(K, M)`` (:func:`driver_disjoint_without`)."""
     if objects.centre.size == 0:
         per_pose = np.full(paths.position.shape, np.inf)
-        return per_pose, per_pose[:, 0]
-    per_pose = gaps(paths, objects, box).min(axis=2)
-    return per_pose, per_pose.min(axis=1)
+        return per_pose, per_pose[:, 0], per_pose[:0]  # no objects: (0, M)
+    g = object_gaps(paths, objects, box)
+    per_pose = g.min(axis=0)
+    return per_pose, per_pose.min(axis=1), g[:, DRIVER]
 
 
 def proximity_of(clearance_m: float, params: RegionParams) -> float:
@@ -91,10 +109,10 @@ def contingency_decel_mps2(paths: PathSet, row: int, params: RegionParams) -> fl
 def impact_speeds_mps(paths: PathSet, per_pose: np.ndarray) -> np.ndarray:
     """Per row: the speed at the start of the first box that touches an object (0 if none touches)."""
     hit = per_pose < 0.0
-    first = hit.argmax(axis=1)
-    s_prev = paths.stop_m * (first / per_pose.shape[1])
-    speed = speed_at_mps(paths, s_prev)
-    return np.where(hit.any(axis=1), speed, 0.0)
+    samples = per_pose.shape[1]
+    stops: list[float] = paths.stop_m.tolist()
+    s_prev = [stop * (first / samples) for stop, first in zip(stops, hit.argmax(axis=1).tolist())]
+    return np.where(hit.any(axis=1), speed_at_mps(paths, s_prev), 0.0)
 
 
 def admissible_steering(paths: PathSet, box: Footprint, objects: ObjectSet, road: Road | None) -> np.ndarray:
@@ -105,6 +123,54 @@ def admissible_steering(paths: PathSet, box: Footprint, objects: ObjectSet, road
     return paths.feasible & on_road(road, corner_points(paths, box), span)
 
 
+def driver_disjoint_without(decision: RegionDecision, skip: int | None) -> bool:
+    """Rule 1 over every object but the ``skip``-th (None: over all): the decision over a subset of the tracks,
+    without a second evaluation (each object's box depends on its own track alone)."""
+    gaps = decision.driver_gaps_m if skip is None else np.delete(decision.driver_gaps_m, skip, axis=0)
+    return bool((gaps >= 0.0).all())
+
+
+class Evaluation(NamedTuple):
+    """Rows of a family, their footprint, and their clearances (:func:`clearances`)."""
+
+    paths: PathSet
+    box: Footprint
+    per_pose: np.ndarray
+    clearance: np.ndarray
+
+    def rows(self, rows: slice) -> Evaluation:
+        """The ``rows`` of every field."""
+        p, box = self.paths, self.box
+        paths = PathSet(p.curvature_1pm[rows], p.max_curvature_1pm[rows], p.accel_mps2[rows], p.hold_m[rows],
+                        p.hold_speed_mps[rows], p.stop_m[rows], p.feasible[rows], p.position[rows], p.heading[rows],
+                        p.friction_mps2)
+        return Evaluation(paths, Footprint(box.mid_x_m[rows], box.half_x_m[rows], box.half_y_m[rows]),
+                          self.per_pose[rows], self.clearance[rows])
+
+
+def within_reach(ego: EgoState, boxes: Sequence[tuple[float, ...]], params: RegionParams) -> bool:
+    """Whether an object's box (:func:`ecu.core.region.objects.object_box`) may reach the driver's stopping path: a
+    guess whether rules 1 and 2 fail, which orders the work (the steering rows built with the base rows, or after
+    them if needed), never the result. Scalar code: for eight boxes cheaper than numpy's calls.
+
+    A box's bounding half extent ``a + b`` against the nominal row's straight stopping distance and the
+    footprint's reach ahead, and across against the ego's width and the driver's arc's offset ``|kappa_0| s^2 / 2``."""
+    friction = min(ego.decel_mps2, ego.friction_mu * GRAVITY_MPS2)
+    ahead = (stopping_distance_m(ego.speed_mps, params.driver_max_accel_mps2, params.hold_time_s, friction)
+             + params.rear_axle_to_front_m + params.standoff_m)
+    across = params.width_m + 0.5 * abs(current_curvature(ego, params)) * ahead * ahead
+    return any(x - (a + b) < ahead and abs(y) - (a + b) < across for x, y, _, _, a, b, _ in boxes)
+
+
+def evaluate(ego: EgoState, road_curvature_1pm: float, objects: ObjectSet, params: RegionParams,
+             rows: tuple[bool, bool]) -> tuple[Evaluation, np.ndarray]:
+    """The family's (base, steering) ``rows`` evaluated against the objects, and the driver's per-object gaps."""
+    paths = path_family(ego, road_curvature_1pm, params, base=rows[0], steering=rows[1])
+    box = footprint(paths, params)
+    per_pose, clearance, driver_gaps = separations(paths, objects, box)
+    return Evaluation(paths, box, per_pose, clearance), driver_gaps
+
+
 def _result(kind: Contingency, row: int, ctx: tuple, clearance: np.ndarray, impact: float,
             steering: bool = False) -> RegionDecision:
     """The decision for ``row`` of ``ctx``'s paths; ``clearance[DRIVER]`` and the driver's distance from the base."""
@@ -112,55 +178,75 @@ def _result(kind: Contingency, row: int, ctx: tuple, clearance: np.ndarray, impa
     decel = 0.0 if kind is Contingency.DRIVER_PATH else contingency_decel_mps2(paths, row, params)
     return RegionDecision(kind, row, float(paths.curvature_1pm[row]), decel, float(clearance[row]), impact,
                           float(paths.stop_m[row]), base.driver_disjoint, base.driver_stopping_distance_m,
-                          base.proximity, paths, box, objects, steering)
+                          base.proximity, paths, box, objects, steering, base.driver_gaps_m)
 
 
-def _lane_least_impact(params: RegionParams, base: RegionDecision, lane_per_pose: np.ndarray) -> RegionDecision:
-    """Rule 4 on the lane row alone: braking in lane, its first contact's speed."""
-    lane_speed = float(impact_speeds_mps(base.paths, lane_per_pose)[LANE])
-    lane_clearance = np.full(base.paths.curvature_1pm.shape, base.clearance_m)
-    lane_clearance[LANE] = float(lane_per_pose[LANE].min())
-    return _result(Contingency.LEAST_IMPACT, LANE, (base.paths, base.box, base.objects, params, base),
-                   lane_clearance, lane_speed)
-
-
-def _steer_or_least_impact(ego: EgoState, road: Road | None, params: RegionParams,
-                           base: RegionDecision, lane_per_pose: np.ndarray) -> RegionDecision:
-    """Rules 3 and 4: the steering rows only; the lane row's result comes from ``base``."""
-    paths = path_family(ego, 0.0, params, base=False, steering=True)
-    box = footprint(paths, params)
-    per_pose, clearance = clearances(paths, base.objects, box)
+def _steer_or_least_impact(steering: Evaluation, speeds: np.ndarray, lane: tuple[float, float],
+                           road: Road | None, ctx: tuple) -> RegionDecision:
+    """Rules 3 and 4 over the ``steering`` rows and their impact ``speeds``; ``lane``: the lane row's
+    (clearance, impact speed); ``ctx``: (params, base decision)."""
+    params, base = ctx
+    paths, box, clearance = steering.paths, steering.box, steering.clearance
     ok = admissible_steering(paths, box, base.objects, road)
-    ctx = (paths, box, base.objects, params, base)
+    result_ctx = (paths, box, base.objects, params, base)
     disjoint = ok & (clearance >= 0.0)
     if disjoint.any():
         row = int(np.argmax(np.where(disjoint, clearance, -np.inf)))
-        return _result(Contingency.STEER_AND_BRAKE, row, ctx, clearance, 0.0, steering=True)
-    speeds = np.where(ok, impact_speeds_mps(paths, per_pose), np.inf)
-    lane_speed = float(impact_speeds_mps(base.paths, lane_per_pose)[LANE])
+        return _result(Contingency.STEER_AND_BRAKE, row, result_ctx, clearance, 0.0, steering=True)
+    speeds = np.where(ok, speeds, np.inf)
     row = int(np.argmin(speeds))
-    if speeds[row] < lane_speed:
-        return _result(Contingency.LEAST_IMPACT, row, ctx, clearance, float(speeds[row]), steering=True)
-    return _lane_least_impact(params, base, lane_per_pose)
+    if speeds[row] < lane[1]:
+        return _result(Contingency.LEAST_IMPACT, row, result_ctx, clearance, float(speeds[row]), steering=True)
+    return _lane_least_impact(params, base, lane)
+
+
+def _lane_least_impact(params: RegionParams, base: RegionDecision, lane: tuple[float, float]) -> RegionDecision:
+    """Rule 4 on the lane row alone: braking in lane, its first contact's speed (``lane``: clearance, speed)."""
+    clearance = np.full(base.paths.curvature_1pm.shape, lane[0])
+    return _result(Contingency.LEAST_IMPACT, LANE, (base.paths, base.box, base.objects, params, base),
+                   clearance, lane[1])
+
+
+def _steering_rows(ego: EgoState, road_curvature_1pm: float, params: RegionParams, whole: Evaluation,
+                   base: RegionDecision) -> tuple[Evaluation, np.ndarray, float]:
+    """(the steering rows, their impact speeds, the lane row's impact speed): from ``whole`` if it holds them,
+    else evaluated now."""
+    if len(whole.clearance) > len(base.paths.curvature_1pm):
+        speeds = impact_speeds_mps(whole.paths, whole.per_pose)
+        return whole.rows(slice(FIRST_STEER, None)), speeds[FIRST_STEER:], float(speeds[LANE])
+    steering, _ = evaluate(ego, road_curvature_1pm, base.objects, params, (False, True))
+    lane_speed = float(impact_speeds_mps(whole.paths, whole.per_pose)[LANE])
+    return steering, impact_speeds_mps(steering.paths, steering.per_pose), lane_speed
 
 
 def decide(ego: EgoState, tracks: Sequence[TrackBox], road: Road | None, params: RegionParams,
            steer: bool = True) -> RegionDecision:
-    """The rules of the module docstring; the steering rows are built only when rules 1 and 2 fail, and only
-    with ``steer`` (steering authority)."""
-    objects = object_set(tracks, ego.speed_mps, params)
-    paths = path_family(ego, 0.0 if road is None else road.curvature_1pm, params, steering=False)
-    box = footprint(paths, params)
-    per_pose, clearance = clearances(paths, objects, box)
+    """The rules of the module docstring; the steering rows only with ``steer`` (steering authority), judged only
+    when rules 1 and 2 fail, and built with the base rows (one evaluation costs less than two) when an object
+    is :func:`within_reach`, else after them when needed (:func:`decide_boxes`)."""
+    boxes = [object_box(track, ego.speed_mps, params) for track in tracks]
+    return decide_boxes(ego, boxes, road, params, (steer, steer and within_reach(ego, boxes, params)))
+
+
+def decide_boxes(ego: EgoState, boxes: Sequence[tuple[float, ...]], road: Road | None, params: RegionParams,
+                 steer: tuple[bool, bool]) -> RegionDecision:
+    """:func:`decide` over :func:`ecu.core.region.objects.object_box` es; ``steer``: (steering authority, the
+    steering rows evaluated with the base rows)."""
+    objects, road_k = boxes_as_set(boxes), 0.0 if road is None else road.curvature_1pm
+    whole, driver_gaps = evaluate(ego, road_k, objects, params, (True, steer[1]))
+    first = whole.rows(slice(None, FIRST_STEER)) if steer[1] else whole
+    paths, clearance = first.paths, first.clearance
     driver_disjoint = bool(clearance[DRIVER] >= 0.0)
     base = RegionDecision(Contingency.DRIVER_PATH, DRIVER, float(paths.curvature_1pm[DRIVER]), 0.0,
                           float(clearance[DRIVER]), 0.0, float(paths.stop_m[DRIVER]), driver_disjoint,
                           float(paths.stop_m[DRIVER]), proximity_of(float(clearance[NOMINAL]), params),
-                          paths, box, objects)
+                          paths, first.box, objects, False, driver_gaps)
     if driver_disjoint:
         return base
     if clearance[LANE] >= 0.0 and paths.feasible[LANE]:
-        return _result(Contingency.BRAKE_IN_LANE, LANE, (paths, box, objects, params, base), clearance, 0.0)
-    if not steer:
-        return _lane_least_impact(params, base, per_pose)
-    return _steer_or_least_impact(ego, road, params, base, per_pose)
+        return _result(Contingency.BRAKE_IN_LANE, LANE, (paths, first.box, objects, params, base), clearance, 0.0)
+    if not steer[0]:
+        return _lane_least_impact(params, base, (float(clearance[LANE]),
+                                                 float(impact_speeds_mps(paths, first.per_pose)[LANE])))
+    steering, speeds, lane_speed = _steering_rows(ego, road_k, params, whole, base)
+    return _steer_or_least_impact(steering, speeds, (float(clearance[LANE]), lane_speed), road, (params, base))

@@ -88,7 +88,12 @@ def object_box(track: TrackBox, ego_speed_mps: float, params: RegionParams) -> t
 
 def object_set(tracks: Sequence[TrackBox], ego_speed_mps: float, params: RegionParams) -> ObjectSet:
     """The boxes of every track: standing boxes and moving stopping regions, inflated (module docstring)."""
-    rows = np.array([object_box(t, ego_speed_mps, params) for t in tracks], dtype=float).reshape(-1, 7)
+    return boxes_as_set([object_box(t, ego_speed_mps, params) for t in tracks])
+
+
+def boxes_as_set(boxes: Sequence[tuple[float, ...]]) -> ObjectSet:
+    """:func:`object_box` es as an :class:`ObjectSet`."""
+    rows = np.array(boxes, dtype=float).reshape(-1, 7)
     centre = rows[:, 0:2].copy().view(complex).ravel()
     axis = rows[:, 2:4].copy().view(complex).ravel()
     return ObjectSet(centre, axis, np.conj(axis), rows[:, 4].copy(), rows[:, 5].copy(), rows[:, 6] > 0.0)

@@ -26,6 +26,7 @@ ego's axes (conservative; exact when the two are aligned, as in the 1-D case, wh
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -46,36 +47,48 @@ class Footprint(NamedTuple):
 
 def footprint(paths: PathSet, params: RegionParams) -> Footprint:
     """The stretched and widened box of every row and pose (module docstring); the standoff extends the
-    last box only, where the car stops (the 1-D core's ``d + standoff <= r``)."""
-    ds = paths.stop_m * (1.0 / params.path_samples)
-    turn = paths.max_curvature_1pm * ds
+    last box only, where the car stops (the 1-D core's ``d + standoff <= r``). Scalar code per row (compiled,
+    ``setup.py``): for 16 rows cheaper than numpy's calls."""
     reach = max(params.rear_axle_to_front_m + params.standoff_m, params.length_m - params.rear_axle_to_front_m)
-    half_w = 0.5 * params.width_m
-    grow_y = turn * (0.5 * ds + reach + (0.5 * (reach + half_w)) * turn)
-    grow_x = turn * half_w + grow_y
-    half_x = 0.5 * (params.length_m + ds) + grow_x  # from the stretched rear to the front, grown both ways
-    mid_x = (params.rear_axle_to_front_m - 0.5 * params.length_m) - 0.5 * ds
+    half_w, rear = 0.5 * params.width_m, params.rear_axle_to_front_m - 0.5 * params.length_m
+    stops: list[float] = paths.stop_m.tolist()
+    curvatures: list[float] = paths.max_curvature_1pm.tolist()
+    mid_x, half_x, half_y = [], [], []
+    for stop, kappa in zip(stops, curvatures):
+        ds = stop * (1.0 / params.path_samples)
+        turn = kappa * ds
+        grow_y = turn * (0.5 * ds + reach + (0.5 * (reach + half_w)) * turn)
+        half_x.append(0.5 * (params.length_m + ds) + (turn * half_w + grow_y))  # stretched rear to front, grown
+        mid_x.append(rear - 0.5 * ds)
+        half_y.append((half_w + params.lateral_margin_m) + grow_y)
     standoff = 0.5 * params.standoff_at_samples_m
-    return Footprint((mid_x[:, None] + standoff)[..., None], (half_x[:, None] + standoff)[..., None],
-                     ((half_w + params.lateral_margin_m) + grow_y)[:, None, None])
+    return Footprint((np.array(mid_x)[:, None] + standoff)[..., None],
+                     (np.array(half_x)[:, None] + standoff)[..., None], np.array(half_y)[:, None, None])
 
 
 def gaps(paths: PathSet, objects: ObjectSet, box: Footprint) -> np.ndarray:
-    """Separation ``g`` (m) of every row, pose and object, shape ``(N, M, K)`` (module docstring).
+    """Separation ``g`` (m) of every row, pose and object, shape ``(N, M, K)`` (module docstring): a view of
+    :func:`object_gaps`."""
+    return object_gaps(paths, objects, box).transpose(1, 2, 0)
+
+
+def object_gaps(paths: PathSet, objects: ObjectSet, box: Footprint) -> np.ndarray:
+    """Separation ``g`` (m) of every object, row and pose, shape ``(K, N, M)`` (module docstring).
 
     Complex arithmetic: the object's centre in the pose's frame is ``(o - z) conj(h)`` and the heading
-    difference ``conj(u) h`` (``z, h`` the pose's position and heading, ``o, u`` the object's)."""
-    heading = paths.heading[..., None]
-    local = (objects.centre - paths.position[..., None]) * np.conj(heading)
-    turn = objects.axis_conj * heading
+    difference ``conj(u) h`` (``z, h`` the pose's position and heading, ``o, u`` the object's). Objects
+    first: the rows and poses, contiguous, make each operation's inner loop (``N M`` long, not ``K``)."""
+    heading = paths.heading
+    local = (objects.centre[:, None, None] - paths.position) * np.conj(heading)
+    turn = objects.axis_conj[:, None, None] * heading
     rc, rs = np.abs(turn.real), np.abs(turn.imag)
-    a, b = objects.half_length_m, objects.half_width_m
-    gx = np.abs(local.real - box.mid_x_m)
-    gx -= box.half_x_m
+    a, b = objects.half_length_m[:, None, None], objects.half_width_m[:, None, None]
+    gx = np.abs(local.real - box.mid_x_m[..., 0])
+    gx -= box.half_x_m[..., 0]
     gx -= a * rc
     gx -= b * rs
     gy = np.abs(local.imag)
-    gy -= box.half_y_m
+    gy -= box.half_y_m[..., 0]
     gy -= a * rs
     gy -= b * rc
     return np.maximum(gx, gy, out=gx)
@@ -92,12 +105,16 @@ def corner_points(paths: PathSet, box: Footprint) -> np.ndarray:
     return paths.position[..., None] + paths.heading[..., None] * local
 
 
-def speed_at_mps(paths: PathSet, s_m: np.ndarray) -> np.ndarray:
-    """Speed (m/s) of every row at its arc length ``s_m`` (shape ``(N,)``): ``v^2 + 2 a s`` in the hold, then
+def speed_at_mps(paths: PathSet, s_m: list[float]) -> np.ndarray:
+    """Speed (m/s) of every row at its arc length ``s_m`` (one per row): ``v^2 + 2 a s`` in the hold, then
     ``v_h^2 (1 - (s - d_hold) / s_brake)``, the braking's mean deceleration (an approximation of the
-    friction-circle profile that ranks paths by impact speed)."""
-    v_h, hold, a = paths.hold_speed_mps, paths.hold_m, paths.accel_mps2
-    v_h_sq = v_h * v_h
-    in_hold = np.maximum(v_h_sq - 2.0 * a * (hold - s_m), 0.0)
-    braking = v_h_sq * np.maximum(1.0 - (s_m - hold) / np.maximum(paths.stop_m - hold, 1e-9), 0.0)
-    return np.sqrt(np.where(s_m <= hold, in_hold, braking))
+    friction-circle profile that ranks paths by impact speed). Scalar code per row, as :func:`footprint`."""
+    speeds = []
+    rows = zip(paths.hold_speed_mps.tolist(), paths.hold_m.tolist(), paths.accel_mps2.tolist(), paths.stop_m.tolist())
+    for s, (v_h, hold, a, stop) in zip(s_m, rows):
+        v_h_sq = v_h * v_h
+        if s <= hold:
+            speeds.append(math.sqrt(max(v_h_sq - 2.0 * a * (hold - s), 0.0)))
+        else:
+            speeds.append(math.sqrt(v_h_sq * max(1.0 - (s - hold) / max(stop - hold, 1e-9), 0.0)))
+    return np.array(speeds)

@@ -150,12 +150,13 @@ def _driver_rows(ego: EgoState, t_h: float, rows: tuple[np.ndarray, ...], params
 def path_family(ego: EgoState, road_curvature_1pm: float, params: RegionParams, base: bool = True,
                 steering: bool = True) -> PathSet:
     """The rows of the module docstring, sampled: (``base``) the driver's, nominal and lane rows, (``steering``)
-    the steering rows; :mod:`ecu.core.region.decision` builds the steering rows only if the base rows collide."""
+    the steering rows (:mod:`ecu.core.region.decision` chooses which, and when)."""
     k0 = current_curvature(ego, params)
     t_h, friction = params.hold_time_s, min(ego.decel_mps2, ego.friction_mu * GRAVITY_MPS2)
     d_hold, v_h = hold_phase(ego.speed_mps, ego.accel_mps2, t_h)
     kappa = curvature_rows(k0, v_h, road_curvature_1pm, params, base, steering)
-    hold, speed, accel = np.full(kappa.shape, d_hold), np.full(kappa.shape, v_h), np.full(kappa.shape, ego.accel_mps2)
+    hold, speed, accel = rows = np.empty((3, kappa.size))
+    rows.T[...] = d_hold, v_h, ego.accel_mps2  # one fill for the three (np.full's Python wrapper costs a call each)
     lead = lead_in_m(v_h, d_hold, k0, kappa, params)
     if base:
         _driver_rows(ego, t_h, (hold, speed, accel, lead), params)

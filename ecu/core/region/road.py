@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import bisect
 import math
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 
@@ -32,8 +32,12 @@ class Road(NamedTuple):
 
 
 def lateral_offsets(road: Road, points: np.ndarray) -> np.ndarray:
-    """``e`` of complex points ``x + iy`` (module docstring), same shape."""
-    rotated = points * complex(math.cos(road.heading_rad), -math.sin(road.heading_rad))
+    """``e`` of complex points ``x + iy`` (module docstring), same shape; a reference line along the ego's heading
+    (``psi = 0``, the ECU's assumed road) needs no rotation, a straight one no curvature term (both exact)."""
+    rotated = points if road.heading_rad == 0.0 else points * complex(math.cos(road.heading_rad),
+                                                                      -math.sin(road.heading_rad))
+    if road.curvature_1pm == 0.0:
+        return rotated.imag
     t = rotated.real
     return rotated.imag - (0.5 * road.curvature_1pm) * (t * t)
 
@@ -58,4 +62,4 @@ def allowed_span(road: Road, object_offsets_m: np.ndarray) -> tuple[float, float
 def on_road(road: Road, corners: np.ndarray, span: tuple[float, float]) -> np.ndarray:
     """Per row: every corner of every footprint box (complex, shape ``(N, M, 4)``) lies within ``span``."""
     e = lateral_offsets(road, corners)
-    return ((e >= span[0]) & (e <= span[1])).all(axis=(1, 2))
+    return cast(np.ndarray, ((e >= span[0]) & (e <= span[1])).all(axis=(1, 2)))
