@@ -137,12 +137,13 @@ def heatmap(path: Path, rows: list[dict], x_axis: str, y_axis: str, metric: str,
     cols = min(len(names), 4)
     rows_n = -(-len(names) // cols)
     fig, axes = plt.subplots(rows_n, cols, figsize=(1.2 + 3.6 * cols, 0.4 + 3.5 * rows_n), dpi=100, squeeze=False)
-    for ax, name, grid in zip(axes.flat, names, grids):
+    for k, (ax, name, grid) in enumerate(zip(axes.flat, names, grids)):
         image = ax.imshow(grid, origin="lower", aspect="auto", cmap="magma_r", vmin=0.0, vmax=vmax)
         ax.set_xticks(range(len(x.labels)), x.labels, rotation=45, fontsize=7)
         ax.set_yticks(range(len(y.labels)), y.labels, fontsize=7)
         ax.set_xlabel(x_axis, fontsize=8)
-        ax.set_ylabel(y_axis, fontsize=8)
+        if k % cols == 0:
+            ax.set_ylabel(y_axis, fontsize=8)
         ax.set_title(name, fontsize=9)
         if grid.size <= 144:
             for (j, i), v in np.ndenumerate(grid):

@@ -59,6 +59,12 @@ def rates_table(rows: list[dict], subject: SweepSubject = SCENARIO, by: Sequence
     return lines
 
 
+def summary_table(rows: list[dict], meta: dict[str, Any]) -> list[str]:
+    """The rates table of a results table: its subject's columns, a row per panel."""
+    axes = [a for a in meta["axes"] if a != meta.get("strategy_axis")]
+    return rates_table(rows, subject_of(meta.get("subject", "scenario")), panel_axes(rows, axes))
+
+
 def outcome(row: dict, subject: SweepSubject = SCENARIO) -> str:
     """One run in words: ``collides 4.3 m/s, 4 inv`` / ``stops 1.9 m short, 21 inv`` / ``failed``."""
     return "failed" if row["status"] != "ok" else subject.outcome(row)
@@ -103,8 +109,8 @@ def _header(rows: list[dict], meta: dict[str, Any], out_dir: Path) -> list[str]:
         lines += [meta["description"], ""]
     lines += [f"- mode `{meta['mode']}`, {len(rows)} runs ({ok} ok, {len(rows) - ok} failed), sweep seed "
               f"{meta['seed']}", f"- axes: {', '.join(f'`{a}`' for a in meta['axes'])}",
-              f"- base {meta.get('subject', 'scenario')} `{meta['scenario']}`; plant FMU sha256 `{meta['fmu_sha256'][:16]}…`; "
-              f"crd {meta['package_version']}",
+              f"- base {meta.get('subject', 'scenario')} `{meta['scenario']}`; plant FMU sha256 "
+              f"`{meta['fmu_sha256'][:16]}…`; crd {meta['package_version']}",
               f"- regenerate: `crd sweep {meta['source']} --out {out_dir}`; redraw: `crd sweep report {out_dir}`", ""]
     return lines
 
@@ -117,8 +123,9 @@ def write_report(out_dir: Path, pairs: Sequence[tuple[str, str]] | None = None) 
     axes = [a for a in meta["axes"] if a != meta.get("strategy_axis")]
     subject, by = subject_of(meta.get("subject", "scenario")), panel_axes(rows, axes)
     # one value at a time leaves a map's off-base cells empty: maps only when asked for
-    maps = draw_maps(out_dir / "maps", rows, axes, pairs, subject.map_metrics) if pairs or meta["mode"] != "one_at_a_time" else []
-    lines = _header(rows, meta, out_dir) + ["## Rates per strategy", ""] + rates_table(rows, subject, by) + [""]
+    drawn = pairs or meta["mode"] != "one_at_a_time"
+    maps = draw_maps(out_dir / "maps", rows, axes, pairs, subject.map_metrics) if drawn else []
+    lines = _header(rows, meta, out_dir) + ["## Rates per strategy", ""] + summary_table(rows, meta) + [""]
     outcomes = outcomes_table(rows, meta)
     if outcomes:
         lines += ["## Outcome of each setting", ""] + outcomes + [""]

@@ -98,10 +98,15 @@ def test_rows_carry_the_dance_figures_and_the_axis_values(small) -> None:
     assert same_time["none"]["collided"] and not same_time["tightening"]["collided"]
 
 
-def test_one_worker_and_two_give_the_same_rows(small, tmp_path) -> None:
+def test_one_worker_two_and_in_process_give_the_same_rows(small, tmp_path) -> None:
     sweep, out1 = small
     run_sweep(load_sweep(sweep), tmp_path / "w2", ClusterOptions(workers=2, dashboard=False), report=False)
     assert _rows(tmp_path / "w2") == _rows(out1)
+    plan = make_plan(load_sweep(sweep))
+    sha = file_sha256(plan.fmu_path)
+    cached_fmu(sha, plan.fmu_path.read_bytes(), tmp_path / "fmu")
+    here = {k: v for k, v in run_one(plan.runs[3], sha).items() if k != "task_wall_s"}
+    assert here == _rows(out1)[3]
 
 
 def test_report_maps_collision_rate_and_deadlock(small, tmp_path) -> None:
