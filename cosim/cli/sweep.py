@@ -73,7 +73,7 @@ class ProgressBar:
 
 
 def add_subparser(subparsers: argparse._SubParsersAction) -> None:
-    p = subparsers.add_parser("sweep", help="run a scenario or fleet sweep / Monte Carlo on Dask (or: sweep --list, "
+    p = subparsers.add_parser("sweep", help="run a scenario sweep / Monte Carlo on Dask (or: sweep --list, "
                                             "sweep report DIR)")
     p.add_argument("target", nargs="*", metavar="SWEEP | report DIR",
                    help="a sweep TOML file or bundled sweep name; or 'report DIR' to redraw a report")

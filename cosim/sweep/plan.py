@@ -125,13 +125,25 @@ def _check_paths(spec: SweepSpec, base: SubjectBase, base_values: dict[str, Any]
         raise ConfigError(f"{spec.source}: axis paths {', '.join(spec.paths)} on {spec.base.name}: {exc}") from None
 
 
+def _seed_axis(spec: SweepSpec, seed_path: str) -> bool:
+    """Whether the runs' seed is an axis (its values are the seeds); it may not be an ``also`` path."""
+    for i, axis in enumerate(spec.axes):
+        if seed_path in axis.also:
+            raise ConfigError(f"{spec.source}: axis[{i}].also: {seed_path} is a run's seed: give it its own axis")
+    given = any(a.path == seed_path for a in spec.axes)
+    if given and spec.replicates > 1:
+        raise ConfigError(f"{spec.source}: sweep.replicates: the seed is the axis {seed_path}, so every replicate "
+                          f"would repeat the same run; give more seeds instead")
+    return given
+
+
 def make_plan(spec: SweepSpec) -> SweepPlan:
     """Load the base file, build its FMU, check the axes and list every run."""
     subject = subject_of(spec.subject)
     base = subject.prepare(spec.base)
     base_values = check_axes(spec, base.schema)
     _check_paths(spec, base, base_values)
-    seed_axis = subject.seed_path in spec.paths
+    seed_axis = _seed_axis(spec, subject.seed_path)
     runs: list[RunSpec] = []
     seen: set[str] = set()
     points = design(spec, base_values)

@@ -24,8 +24,8 @@ from .plan import SweepPlan, make_plan
 from .report import write_report
 from .runner import ClusterOptions, SweepOutcome, SweepProgress, Task, run_plan
 from .spec import SweepSpec
-from .table import ResultsTable, results_schema
 from .subjects import subject_of
+from .table import ResultsTable, results_schema
 from .task import run_one
 
 def table_meta(plan: SweepPlan) -> dict[str, Any]:

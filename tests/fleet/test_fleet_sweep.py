@@ -167,6 +167,14 @@ def test_fleet_seed_is_derived_per_run_unless_it_is_an_axis(tmp_path) -> None:
     given = make_plan(load_sweep(_sweep(tmp_path, SMALL + '[[axis]]\npath = "fleet.seed"\nvalues = [1, 2]\n', "s2.toml")))
     assert sorted({r.seed for r in given.runs}) == [1, 2] and len(given.runs) == 8
     assert all(r.scenario["fleet"]["seed"] == r.seed for r in given.runs)
+    repeated = _sweep(tmp_path, SMALL.replace("seed = 3", "seed = 3\nreplicates = 2")
+                      + '[[axis]]\npath = "fleet.seed"\nvalues = [1, 2]\n', "s3.toml")
+    with pytest.raises(ConfigError, match="every replicate would repeat the same run"):
+        make_plan(load_sweep(repeated))
+    hidden = _sweep(tmp_path, SMALL.replace('path = "fleet.duration_s"', 'path = "fleet.duration_s"\nalso = ["fleet.seed"]'),
+                    "s4.toml")
+    with pytest.raises(ConfigError, match=r"axis\[0\]\.also: fleet\.seed is a run's seed"):
+        make_plan(load_sweep(hidden))
 
 
 def test_a_value_the_fleet_loader_refuses_fails_its_run_only(tmp_path) -> None:
