@@ -54,7 +54,7 @@ METRICS = {
     "mean_deadlock_s": MapMetric("mean time in deadlock (s)", lambda runs: _mean([r["deadlock_s"] for r in runs]),
                                  ".1f"),
 }
-#: the maps a table gets unless its metadata names others (a scenario sweep's)
+#: draw_maps' default: a scenario sweep's maps (a subject names its own, cosim.sweep.subject)
 DEFAULT_METRICS = ("collision_rate", "mean_impact_speed_mps")
 
 
