@@ -1,4 +1,4 @@
-"""``crd sweep``: scenario sweeps and Monte Carlo on Dask.
+"""``crd sweep``: scenario and fleet sweeps, and Monte Carlo, on Dask.
 
 ::
 
@@ -105,11 +105,11 @@ def _do_report(out_dir: Path, axes: list[str] | None) -> int:
 
 
 def _summary(plan, outcome, out_dir: Path) -> None:
-    from ..sweep.report import rates_table
+    from ..sweep.report import summary_table
     from ..sweep.table import read_results
 
-    table, _ = read_results(out_dir / "results.parquet")
-    print("\n".join(rates_table(table.to_pylist())))
+    table, meta = read_results(out_dir / "results.parquet")
+    print("\n".join(summary_table(table.to_pylist(), meta)))
     rate = outcome.done / outcome.wall_s if outcome.wall_s else 0.0
     print(f"\n{len(plan.runs)} runs: {outcome.done} run now ({outcome.failed} failed), {outcome.skipped} resumed; "
           f"{outcome.wall_s:.1f} s wall, {rate:.1f} runs/s")

@@ -69,12 +69,13 @@ def _write_world(path: Path, fleet: Fleet, rows: Sequence[tuple[float, ...]]) ->
 
 def run_fleet(fleet: Fleet, out_dir: Path | None, strategies: Mapping[str, str] | None = None,
               ecu: EcuOptions | None = None, can_logs: Sequence[str] = (),
-              show: Show | None = None) -> tuple[FleetRecord, SceneDance]:
-    """Run ``fleet`` and, with ``out_dir``, write every file of the module docstring."""
+              show: Show | None = None, fmu_paths: Mapping[str, Path] | None = None) -> tuple[FleetRecord, SceneDance]:
+    """Run ``fleet`` and, with ``out_dir``, write every file of the module docstring (``fmu_paths``: vehicle ->
+    plant FMU, default each vehicle's own, :func:`~cosim.loop.experiment.resolve_fmu`)."""
     logs = check_can_logs(can_logs)
     if out_dir is not None:
         check_out_dir(out_dir, fleet.names)
-    paths = {v.name: resolve_fmu(v.scenario) for v in fleet.vehicles}
+    paths = dict(fmu_paths) if fmu_paths else {v.name: resolve_fmu(v.scenario) for v in fleet.vehicles}
     run = FleetRun(fleet, paths, strategies, ecu)
     streams: list[RunStream] = []
     record = dance = None

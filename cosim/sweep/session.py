@@ -17,25 +17,26 @@ from typing import Any, Iterator
 
 import dask
 
+from ..errors import ConfigError
 from ..results.writer import package_version
 from ..world.fmu_share import file_sha256
 from .plan import SweepPlan, make_plan
 from .report import write_report
 from .runner import ClusterOptions, SweepOutcome, SweepProgress, Task, run_plan
 from .spec import SweepSpec
+from .subjects import subject_of
 from .table import ResultsTable, results_schema
 from .task import run_one
-
-STRATEGY_PATH = "ecu.strategy"
-
 
 def table_meta(plan: SweepPlan) -> dict[str, Any]:
     """What ``results.parquet`` records about the sweep that made it (its schema metadata)."""
     spec = plan.spec
+    strategy = subject_of(spec.subject).strategy_path
     return {
         "name": spec.name, "description": spec.description, "mode": spec.mode, "seed": spec.seed,
-        "source": str(spec.source), "scenario": str(spec.scenario), "axes": [a.path for a in spec.axes],
-        "strategy_axis": STRATEGY_PATH if any(a.path == STRATEGY_PATH for a in spec.axes) else None,
+        "subject": spec.subject, "source": str(spec.source), "scenario": str(spec.base),
+        "axes": [a.path for a in spec.axes],
+        "strategy_axis": strategy if any(a.path == strategy for a in spec.axes) else None,
         "base_values": plan.base_values, "runs": len(plan.runs), "fmu_sha256": file_sha256(plan.fmu_path),
         "package_version": package_version(),
     }
@@ -43,7 +44,7 @@ def table_meta(plan: SweepPlan) -> dict[str, Any]:
 
 def open_table(plan: SweepPlan, out_dir: Path) -> ResultsTable:
     example = plan.runs[0].point.as_dict() if plan.runs else {}
-    return ResultsTable(out_dir, results_schema(example, table_meta(plan)))
+    return ResultsTable(out_dir, results_schema(example, table_meta(plan), subject_of(plan.spec.subject).columns()))
 
 
 def run_sweep(spec: SweepSpec, out_dir: Path, opts: ClusterOptions, resume: bool = False,
@@ -53,6 +54,9 @@ def run_sweep(spec: SweepSpec, out_dir: Path, opts: ClusterOptions, resume: bool
 
     Without ``resume`` an existing ``results.parquet`` in ``out_dir`` is replaced.
     """
+    if keep_timeseries and not subject_of(spec.subject).timeseries:
+        raise ConfigError(f"--keep-timeseries: a {spec.subject} sweep keeps no time series (its runs' figures are "
+                          f"in the table)")
     plan = make_plan(spec)
     table = open_table(plan, out_dir)
     skip = table.resume({r.key: r.index for r in plan.runs}) if resume else set()

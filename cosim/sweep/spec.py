@@ -1,10 +1,11 @@
 """Sweep files (TOML) -> :class:`SweepSpec`, strictly.
 
-A sweep file names a base scenario and the axes to vary over it::
+A sweep file names a base scenario (or a base fleet scene) and the axes to vary over it::
 
     [sweep]
     name = "friction_lag_latency"
     scenario = "paper_cyclist"        # a bundled scenario name, or a path relative to this file
+    # fleet = "crossing"              # or: a bundled fleet scene name (cosim/fleet/scenes), or a fleet file
     mode = "grid"                     # "grid" | "monte_carlo" | "one_at_a_time"
     seed = 1                          # the per-run seeds derive from this and each run's key
     samples = 200                     # monte_carlo: number of samples of the distribution axes
@@ -22,6 +23,11 @@ A sweep file names a base scenario and the axes to vary over it::
     values = ["none", "conservative", "tightening"]   # a list
 
     [[axis]]
+    path = "plant.initial_speed_mps"  # a fleet's would be vehicle.plant.initial_speed_mps
+    also = ["driver.set_speed_mps"]   # further key paths given the same value in each run
+    values = [8.333, 11.111]
+
+    [[axis]]
     path = "radar.latency_s"
     distribution = "truncated_normal" # "uniform" (low, high), "normal" (mean, std),
     mean = 0.1                        # "truncated_normal" (mean, std, low, high),
@@ -34,8 +40,8 @@ Every key is declared once on :class:`SweepSection` and :class:`AxisTable`
 (:func:`ecu.settings.load`): unknown keys and bad values raise a
 :class:`~cosim.errors.ConfigError` naming the file and the key
 (``axis[2].distribuion``), with the same suggestion as every configuration file.
-Whether each axis's path exists in the scenario is checked by
-:mod:`cosim.sweep.plan` against the resolved scenario.
+Whether each axis's path exists in the scenario (or the fleet) is checked by
+:mod:`cosim.sweep.plan` against the resolved base (:mod:`cosim.sweep.subject`).
 """
 
 from __future__ import annotations
@@ -51,6 +57,8 @@ from ecu.settings import Kind, Range, SettingError, load, load_toml, setting
 from ..errors import ConfigError
 
 MODES = ("grid", "monte_carlo", "one_at_a_time")
+#: what a sweep may vary, by the [sweep] key naming its base file (cosim.sweep.subjects holds each one's runs)
+SUBJECT_KINDS = ("scenario", "fleet")
 DISTRIBUTIONS = {  # name -> required parameters (choice also takes optional weights)
     "uniform": ("low", "high"),
     "normal": ("mean", "std"),
@@ -77,9 +85,12 @@ _VALUES = Kind("non-empty list of distinct values of one kind (numbers, strings 
 
 @dataclass(frozen=True)
 class SweepSection:
-    """``[sweep]``: the base scenario and how its runs are designed."""
+    """``[sweep]``: the base scenario (or fleet) and how its runs are designed."""
 
-    scenario: str = setting(doc="the base scenario: a bundled scenario name, or a path relative to this file")
+    scenario: str | None = setting(None, doc="the base scenario: a bundled scenario name, or a path relative to "
+                                             "this file (give scenario or fleet)")
+    fleet: str | None = setting(None, doc="the base fleet scene: a bundled fleet scene name (crd fleet --list), "
+                                          "or a path relative to this file (give scenario or fleet)")
     name: str = setting("", doc="the sweep's name (default: the file's stem)")
     description: str = setting("", doc="one line for `crd sweep --list`")
     mode: str = setting("grid", allowed=MODES, doc="grid: every combination; monte_carlo: samples of the "
@@ -94,7 +105,10 @@ class SweepSection:
 class AxisTable:
     """``[[axis]]``: one varied key path: ``values``, a range ``start``/``stop``/``step``, or a ``distribution``."""
 
-    path: str = setting(doc="a scenario key path, e.g. plant.road_friction or objects[0].speed_mps")
+    path: str = setting(doc="a scenario key path, e.g. plant.road_friction or objects[0].speed_mps (a fleet's: "
+                            "vehicles[1].y_m, vehicle.ecu.strategy)")
+    also: tuple[str, ...] = setting((), doc="further key paths given the same value in each run (its column is "
+                                            "path's), e.g. a start speed and the driver's set speed")
     values: tuple | None = setting(None, kind=_VALUES, doc="the values (with distribution = \"choice\": the choices)")
     start: int | float | None = setting(None, doc="a range: start + k * step, k = 0, 1, ... up to stop (inclusive)")
     stop: int | float | None = setting(None, doc="see start")
@@ -127,6 +141,7 @@ class Axis:
 
     path: str
     values: tuple = ()
+    also: tuple[str, ...] = ()
     distribution: str | None = None
     low: float | None = None
     high: float | None = None
@@ -142,10 +157,10 @@ class Axis:
 
 @dataclass(frozen=True)
 class SweepSpec:
-    """A whole sweep file; ``scenario`` is the resolved path of the base scenario file."""
+    """A whole sweep file; ``base`` is the resolved path of its base file, a ``subject`` (scenario or fleet)."""
 
     name: str
-    scenario: Path
+    base: Path
     source: Path
     axes: tuple[Axis, ...]
     mode: str = "grid"
@@ -154,6 +169,12 @@ class SweepSpec:
     latin_hypercube: bool = False
     replicates: int = 1
     description: str = ""
+    subject: str = "scenario"
+
+    @property
+    def paths(self) -> tuple[str, ...]:
+        """Every key path the runs write: each axis's path and its ``also`` paths."""
+        return tuple(p for a in self.axes for p in (a.path, *a.also))
 
 
 def bundled_dir() -> Path:
@@ -177,14 +198,28 @@ def find_sweep(name_or_path: str | Path) -> Path:
     return found
 
 
-def _base_scenario(value: str, source: Path) -> Path:
+#: where each subject's bundled base files are (a bare name in [sweep] scenario / fleet; crd fleet --list)
+_BUNDLED_BASES = {"scenario": Path(__file__).resolve().parent.parent / "scenarios",
+                  "fleet": Path(__file__).resolve().parent.parent / "fleet" / "scenes"}
+
+
+def _base_file(kind: str, value: str, source: Path) -> Path:
     if value.endswith(".toml") or "/" in value:
         path = Path(value)
         return path if path.is_absolute() else (source.parent / path).resolve()
-    bundled = Path(str(resources.files("cosim.scenarios") / f"{value}.toml"))
+    bundled = _BUNDLED_BASES[kind] / f"{value}.toml"
     if not bundled.is_file():
-        raise SettingError("sweep.scenario", f"expected a scenario file or a bundled scenario name, got {value!r}")
+        names = ", ".join(p.stem for p in sorted(_BUNDLED_BASES[kind].glob("*.toml")))
+        raise SettingError(f"sweep.{kind}", f"expected a {kind} file or a bundled {kind} name ({names}), got {value!r}")
     return bundled
+
+
+def _subject(s: SweepSection) -> tuple[str, str]:
+    """Which base the sweep names: (kind, value); exactly one of [sweep] scenario and fleet."""
+    given = [(k, getattr(s, k)) for k in SUBJECT_KINDS if getattr(s, k) is not None]
+    if len(given) != 1:
+        raise SettingError("sweep", f"expected one base, scenario or fleet; got {[k for k, _ in given] or 'neither'}")
+    return given[0]
 
 
 def _range_values(t: AxisTable, where: str) -> tuple:
@@ -223,20 +258,20 @@ def _distribution(t: AxisTable, where: str) -> dict[str, Any]:
 
 def _axis(t: AxisTable, where: str) -> Axis:
     if t.distribution is not None:
-        return Axis(t.path, distribution=t.distribution, cross=t.cross, **_distribution(t, where))
+        return Axis(t.path, distribution=t.distribution, also=t.also, cross=t.cross, **_distribution(t, where))
     has_range = [k for k in ("start", "stop", "step") if getattr(t, k) is not None]
     if has_range and t.values is not None:
         raise SettingError(where, "expected either values or start/stop/step, got both")
     if has_range:
         if len(has_range) != 3:
             raise SettingError(where, f"a range needs start, stop and step, got only {has_range}")
-        return Axis(t.path, values=_range_values(t, where), cross=t.cross)
+        return Axis(t.path, values=_range_values(t, where), also=t.also, cross=t.cross)
     if t.values is None:
         raise SettingError(where, "expected values, start/stop/step or a distribution")
     extra = [k for k in ("low", "high", "mean", "std", "weights") if getattr(t, k) not in (None, ())]
     if extra:
         raise SettingError(where, f"{extra} need a distribution")
-    return Axis(t.path, values=t.values, cross=t.cross)
+    return Axis(t.path, values=t.values, also=t.also, cross=t.cross)
 
 
 def _check_mode(spec: SweepSpec) -> None:
@@ -248,11 +283,11 @@ def _check_mode(spec: SweepSpec) -> None:
                                     f"distribution axes {sampled}")
     if spec.mode != "monte_carlo" and (spec.samples or spec.latin_hypercube):
         raise SettingError("sweep", "samples and latin_hypercube apply to mode = 'monte_carlo' only")
-    paths = [a.path for a in spec.axes]
+    paths = list(spec.paths)
     dup = sorted({p for p in paths if paths.count(p) > 1})
     if dup:
         raise SettingError("axis", f"expected each key path at most once, got {dup} more than once")
-    if "scenario.seed" in paths:
+    if spec.subject == "scenario" and "scenario.seed" in paths:
         raise SettingError("axis", "scenario.seed is set per run from sweep.seed; use sweep.replicates for repeats")
 
 
@@ -263,8 +298,9 @@ def sweep_from_dict(data: Mapping[str, Any], source: Path) -> SweepSpec:
         raise SettingError("axis", "missing; expected at least one [[axis]] table")
     axes = tuple(_axis(t, f"axis[{i}]") for i, t in enumerate(file.axis))
     s = file.sweep
-    spec = SweepSpec(name=s.name or source.stem, source=source, axes=axes,
-                     scenario=_base_scenario(s.scenario, source), mode=s.mode, seed=s.seed, samples=s.samples or 0,
+    kind, value = _subject(s)
+    spec = SweepSpec(name=s.name or source.stem, source=source, axes=axes, subject=kind,
+                     base=_base_file(kind, value, source), mode=s.mode, seed=s.seed, samples=s.samples or 0,
                      latin_hypercube=s.latin_hypercube, replicates=s.replicates, description=s.description)
     _check_mode(spec)
     return spec

@@ -2,10 +2,11 @@
 
 Columns: ``run`` (position in the design), ``run_key``, ``seed``,
 ``replicate``, one column per axis (named by its key path), ``strategy``, the
-``metrics.json`` fields (:data:`cosim.sweep.task.METRIC_COLUMNS`), ``status``
+run's figures (its subject's columns, :mod:`cosim.sweep.subjects`: a scenario's
+``metrics.json`` fields, or a fleet's dance figures), ``status``
 (``ok``/``failed``), ``error`` and ``task_wall_s`` (the whole task on the
 worker: FMU cache, scenario load and run, s). The schema's metadata
-``crd.sweep`` (JSON) holds the sweep's name, mode, seed, axes, base values, the
+``crd.sweep`` (JSON) holds the sweep's name, subject, mode, seed, axes, base values, the
 FMU's sha256 and the package version.
 
 Every flush rewrites the whole file to a temporary name and renames it over
@@ -19,7 +20,6 @@ from __future__ import annotations
 import json
 import os
 import time
-import typing
 from pathlib import Path
 from typing import Any, Iterable
 
@@ -27,23 +27,12 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ..errors import ConfigError
-from ..results.run_record import TIMESERIES_COLUMNS, RunMetrics
-from .task import METRIC_COLUMNS
+from ..results.run_record import TIMESERIES_COLUMNS
 
 RESULTS_NAME = "results.parquet"
 META_KEY = b"crd.sweep"
 _ARROW_BY_HINT = {bool: pa.bool_(), int: pa.int64(), float: pa.float64(), str: pa.string()}
 _RESUME_MUST_MATCH = ("name", "seed", "fmu_sha256")
-
-
-def _metric_types() -> dict[str, pa.DataType]:
-    """Column types from RunMetrics' annotations (``float | None`` -> float64), so new metrics follow."""
-    hints = typing.get_type_hints(RunMetrics)
-    out = {}
-    for name in METRIC_COLUMNS:
-        args = [a for a in typing.get_args(hints[name]) if a is not type(None)] or [hints[name]]
-        out[name] = _ARROW_BY_HINT.get(args[0], pa.string())
-    return out
 
 
 def _arrow_type(value: Any) -> pa.DataType:
@@ -56,12 +45,13 @@ def _arrow_type(value: Any) -> pa.DataType:
     return pa.string()
 
 
-def results_schema(axis_values: dict[str, Any], meta: dict[str, Any]) -> pa.Schema:
-    """The table's schema; ``axis_values``: one example value per axis path (sets its column type)."""
+def results_schema(axis_values: dict[str, Any], meta: dict[str, Any], columns: dict[str, type]) -> pa.Schema:
+    """The table's schema; ``axis_values``: one example value per axis path (sets its column type); ``columns``:
+    the subject's figures and their types."""
     fields = [("run", pa.int64()), ("run_key", pa.string()), ("seed", pa.int64()), ("replicate", pa.int64())]
     fields += [(path, _arrow_type(v)) for path, v in axis_values.items()]
     fields += [("strategy", pa.string())]
-    fields += list(_metric_types().items())
+    fields += [(name, _ARROW_BY_HINT.get(hint, pa.string())) for name, hint in columns.items()]
     fields += [("status", pa.string()), ("error", pa.string()), ("task_wall_s", pa.float64())]
     return pa.schema(fields, metadata={META_KEY: json.dumps(meta, sort_keys=True).encode()})
 

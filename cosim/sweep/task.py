@@ -10,7 +10,8 @@ and its library loaded once; each run instantiates and frees its own
 instance). Runs name the FMU by hash only, so no task depends on data held by
 another worker. :func:`run_chunk` runs several runs in one task (fewer
 scheduler round trips), each exactly as :func:`run_one` would. :func:`run_one`
-never raises for a failed run: a scenario value the loader, the ECU or the FMU
+runs a run through its subject (:mod:`cosim.sweep.subjects`: a scenario, or a
+fleet scene) and never raises for a failed run: a value the loader, the ECU or the FMU
 refuses, an FMI error mid-run, or any other exception becomes a row with
 ``status = "failed"`` and the error text, so the sweep goes on. (A native
 crash that kills the worker is handled by the runner: Dask retries the task
@@ -19,7 +20,6 @@ once, then it is recorded as failed.)
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 import os
 import tempfile
@@ -30,15 +30,10 @@ from typing import Any, Callable, Sequence
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from ..errors import PlantError
-from ..loop.master import run_scenario
-from ..results.run_record import RunMetrics, RunRecord
-from ..scenarios.loader import scenario_from_dict
 from ..world.fmu_share import file_sha256, share_fmu, unshare_fmu
 from .plan import RunSpec
-
-#: metrics.json fields copied into each row: every RunMetrics field but the strategy (its own column)
-METRIC_COLUMNS = tuple(f.name for f in dataclasses.fields(RunMetrics) if f.name != "strategy")
-STATUS_OK, STATUS_FAILED = "ok", "failed"
+from .subject import STATUS_FAILED
+from .subjects import subject_of
 
 _FMU_PATHS: dict[str, Path] = {}  # sha256 -> local file, per worker process
 
@@ -90,22 +85,14 @@ def base_row(run: RunSpec) -> dict[str, Any]:
     """The columns a row has whatever happens: identity, seed and axis values."""
     row: dict[str, Any] = {"run": run.index, "run_key": run.key, "seed": run.seed, "replicate": run.point.replicate}
     row.update(run.point.values)
-    row["strategy"] = run.scenario.get("ecu", {}).get("strategy", "tightening")
+    row["strategy"] = subject_of(run.subject).strategy(run.scenario)
     return row
 
 
 def failed_row(run: RunSpec, error: str, task_wall_s: float = 0.0) -> dict[str, Any]:
     row = base_row(run)
-    row.update(dict.fromkeys(METRIC_COLUMNS), status=STATUS_FAILED, error=error, task_wall_s=task_wall_s)
-    return row
-
-
-def _row(run: RunSpec, record: RunRecord) -> dict[str, Any]:
-    row = base_row(run)
-    row["strategy"] = record.metrics.strategy
-    row.update({k: getattr(record.metrics, k) for k in METRIC_COLUMNS})
-    row["status"] = STATUS_FAILED if record.error else STATUS_OK
-    row["error"] = record.error
+    row.update(dict.fromkeys(subject_of(run.subject).columns()), status=STATUS_FAILED, error=error,
+               task_wall_s=task_wall_s)
     return row
 
 
@@ -114,13 +101,12 @@ def run_one(run: RunSpec, fmu_sha256: str, keep_timeseries: bool = False) -> dic
     t0 = time.perf_counter()
     try:
         fmu_path = local_fmu(fmu_sha256)
-        record = run_scenario(scenario_from_dict(run.scenario), fmu_path)
+        figures = subject_of(run.subject).run(run.scenario, run.base_dir, fmu_path, keep_timeseries)
     except Exception as exc:  # noqa: BLE001 - any failure of one run is recorded, the sweep goes on
         return failed_row(run, f"{type(exc).__name__}: {exc}", time.perf_counter() - t0)
-    row = _row(run, record)
+    row = base_row(run)
+    row.update(figures)
     row["task_wall_s"] = time.perf_counter() - t0
-    if keep_timeseries:
-        row["_timeseries"] = record.rows
     return row
 
 
