@@ -40,7 +40,6 @@ from can_dbc.planar import Track
 from .intent import driver_accel_mps2
 from .params import CoreParams
 from .plan import Plan
-from .relevance import in_path
 from .region import EgoState, RegionDecision, Road, TrackBox, decide
 from .region.crossing import crossing_proximity
 from .region.decision import driver_disjoint_without
@@ -80,11 +79,15 @@ def assumed_road(ego: EgoState, params: CoreParams) -> Road:
     return Road(tuple(right + k * w for k in range(count + 1)), 0.0, current_curvature(ego, params.region))
 
 
-def line_track(tracks: Sequence[Track], inputs: CoreInputs, params: CoreParams) -> int | None:
+def line_track(tracks: Sequence[Track], inputs: CoreInputs, params: CoreParams, relevant: bool) -> int | None:
     """The index of the track that is the 1-D core's object: the nearest to ``ObjectTrack``'s range and lateral
-    offset, each within ``track_range_tolerance_m``; None when that object is not valid and in our path
-    (:mod:`ecu.core.relevance`; confirmed or not: the line judges it either way) or no track is near it."""
-    if not (inputs.object_valid and in_path(inputs.object_lateral_m, params)):
+    offset, each within ``track_range_tolerance_m``; None when the line does not judge that object
+    (``relevant``: confirmed, valid and in our path, as :func:`ecu.core.step.step` decides it) or no track is
+    near it. An object the radar has not yet reported consistently is no object to the line
+    (:mod:`ecu.core.track_confirmation`), so the region judges it with the others: when ``ObjectTrack``
+    switches to a new object (a car that cuts out reveals a stopped one), the region keeps the contingency
+    while the line confirms it (it released it for those 0.1 s before)."""
+    if not relevant:
         return None
     tol = params.track_range_tolerance_m
     best, best_d = None, math.inf
@@ -96,7 +99,7 @@ def line_track(tracks: Sequence[Track], inputs: CoreInputs, params: CoreParams) 
 
 
 def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams,
-                 impatient: bool = False) -> RegionCycle | None:
+                 impatient: bool = False, relevant: bool = False) -> RegionCycle | None:
     """Steps 1-5 of the module docstring; None without planar tracks. ``impatient``: the way-out rule's car
     takes its turn (:mod:`ecu.core.way_out`): no tightening against crossing vehicles."""
     tracks = inputs.tracks
@@ -108,7 +111,7 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     decision = decide(ego, boxes, road, params.region, steer=params.steering_authority)
     off_axis = True
     if not decision.driver_disjoint and plan.disjoint:
-        off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, params))
+        off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, params, relevant))
     crossing = 0.0 if impatient else \
         crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
                            0.0 if params.way_out == "none" else params.way_out_path_m)
