@@ -31,7 +31,6 @@ in the next lane would otherwise bound the throttle).
 
 from __future__ import annotations
 
-import math
 from typing import NamedTuple, Sequence
 
 from can_dbc.planar import Track
@@ -39,7 +38,7 @@ from can_dbc.planar import Track
 from .intent import driver_accel_mps2
 from .params import CoreParams
 from .plan import Plan
-from .relevance import in_path
+from .relevance import nearest_track
 from .region import EgoState, RegionDecision, Road, TrackBox, decide
 from .region.crossing import crossing_proximity
 from .region.paths import current_curvature
@@ -78,25 +77,18 @@ def assumed_road(ego: EgoState, params: CoreParams) -> Road:
     return Road(tuple(right + k * w for k in range(count + 1)), 0.0, current_curvature(ego, params.region))
 
 
-def line_track(tracks: Sequence[Track], inputs: CoreInputs, params: CoreParams) -> int | None:
-    """The index of the track that is the 1-D core's object: the nearest to ``ObjectTrack``'s range and lateral
-    offset, each within ``track_range_tolerance_m``; None when that object is not valid and in our path
-    (:mod:`ecu.core.relevance`; confirmed or not: the line judges it either way) or no track is near it."""
-    if not (inputs.object_valid and in_path(inputs.object_lateral_m, params)):
-        return None
-    tol = params.track_range_tolerance_m
-    best, best_d = None, math.inf
-    for i, t in enumerate(tracks):
-        dx, dy = abs(t.x_m - inputs.object_range_m), abs(t.y_m - inputs.object_lateral_m)
-        if dx <= tol and dy <= tol and dx + dy < best_d:
-            best, best_d = i, dx + dy
-    return best
+def line_track(tracks: Sequence[Track], inputs: CoreInputs, in_our_path: bool, params: CoreParams) -> int | None:
+    """The index of the track that is the 1-D core's object (:func:`ecu.core.relevance.nearest_track`); None when
+    that object is not ``in_our_path`` (valid and in the predicted path, :mod:`ecu.core.relevance`; confirmed or
+    not: the line judges it either way) or no track is near it."""
+    return nearest_track(tracks, inputs, params) if in_our_path else None
 
 
 def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams,
-                 impatient: bool = False) -> RegionCycle | None:
-    """Steps 1-5 of the module docstring; None without planar tracks. ``impatient``: the way-out rule's car
-    takes its turn (:mod:`ecu.core.way_out`): no tightening against crossing vehicles."""
+                 in_our_path: bool, impatient: bool = False) -> RegionCycle | None:
+    """Steps 1-5 of the module docstring; None without planar tracks. ``in_our_path``: the line judges the 1-D
+    object (:func:`line_track`); ``impatient``: the way-out rule's car takes its turn (:mod:`ecu.core.way_out`):
+    no tightening against crossing vehicles."""
     tracks = inputs.tracks
     if not tracks:
         return None
@@ -106,7 +98,7 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     decision = decide(ego, boxes, road, params.region, steer=params.steering_authority)
     off_axis = True
     if not decision.driver_disjoint and plan.disjoint:
-        line = line_track(tracks, inputs, params)
+        line = line_track(tracks, inputs, in_our_path, params)
         others = boxes if line is None else boxes[:line] + boxes[line + 1:]
         off_axis = not others or decide(ego, others, road, params.region, steer=False).driver_disjoint
     crossing = 0.0 if impatient else \
