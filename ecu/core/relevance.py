@@ -14,15 +14,19 @@ body is in it; a car in the adjacent lane (3.5 m), a cyclist passed with
 1.5 m clearance (2.66 m) or a lead car that has cut out are not. An object
 outside the path triggers nothing: the planner treats it as no object.
 
-**The path is the predicted one** (:func:`object_in_path`, issue 22): ``e`` is
-the object's offset from the arc the rear axle follows at the current
-curvature ``kappa_0`` (:func:`ecu.core.region.paths.current_curvature`: yaw
-rate over speed, below ``yaw_rate_min_speed_mps`` the wheel angle), the
-stopping region's driver path. For the point ``(x, y)`` ahead of the rear
-axle (``x = rear_axle_to_front_m + range``) the signed distance from the
-circle of curvature ``kappa`` through the origin, tangent to the heading, is
-(our derivation; exactly ``y`` for ``kappa = 0``, ``y - kappa x^2 / 2`` to
-second order)::
+**The path is the predicted one** (:func:`object_in_path`, issue 22), and the
+prediction only clears objects from the straight corridor, never adds one: the
+object must also be within the corridor about the arc the rear axle follows at
+the current curvature ``kappa_0`` (:func:`ecu.core.region.paths.current_curvature`:
+yaw rate over speed, below ``yaw_rate_min_speed_mps`` the wheel angle), the
+stopping region's driver path. A yaw rate lags the road at a curve's entry and
+leads it at its exit, so an object on the arc but off our heading is left to the
+stopping region (:mod:`ecu.core.planar`, which follows the arc) rather than taken
+by the line. For the point ``(x, y)`` ahead of the rear axle (``x =
+rear_axle_to_front_m + range``) the signed distance from the circle of
+curvature ``kappa`` through the origin, tangent to the heading, is (our
+derivation; exactly ``y`` for ``kappa = 0``, ``y - kappa x^2 / 2`` to second
+order)::
 
     e = (2 y - kappa (x^2 + y^2)) / (1 + sqrt((kappa x)^2 + (1 - kappa y)^2))
 
@@ -100,7 +104,7 @@ def object_in_path(inputs: CoreInputs, speed_mps: float, params: CoreParams) -> 
                                    inputs.steering_wheel_rad / params.steering_ratio), region)
     ahead = region.rear_axle_to_front_m + inputs.object_range_m
     offset = path_offset_m(ahead, inputs.object_lateral_m, k)
-    if not in_path(offset, params):
+    if not (in_path(inputs.object_lateral_m, params) and in_path(offset, params)):
         return False
     i = nearest_track(inputs.tracks, inputs, params)
     closing = -inputs.object_range_rate_mps

