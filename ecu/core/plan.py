@@ -26,7 +26,7 @@ from .params import CoreParams
 from .proximity import proximity
 from .relative_stop import (clear_of_lead_m, is_moving, lead_region_applies, moving_proximity, relative_approach_m,
                             relative_disjoint)
-from .relevance import in_path
+from .relevance import object_in_path
 from .stopping_path import is_disjoint, stopping_distance_m
 from .types import CoreInputs
 
@@ -51,7 +51,7 @@ def plan_cycle(speed_mps: float, inputs: CoreInputs, params: CoreParams,
 
     ``model_decel_mps2`` overrides the model deceleration D (None: the strategy's fixed one).
     """
-    relevant = inputs.object_valid and in_path(inputs.object_lateral_m, params)
+    relevant = inputs.object_valid and object_in_path(inputs, speed_mps, params)
     decel = params.model_decel_mps2 if model_decel_mps2 is None else model_decel_mps2
     return plan(speed_mps, inputs, relevant, decel, params)
 

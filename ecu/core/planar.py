@@ -32,7 +32,6 @@ in the next lane would otherwise bound the throttle).
 
 from __future__ import annotations
 
-import math
 from typing import NamedTuple, Sequence
 
 from can_dbc.planar import Track
@@ -40,6 +39,7 @@ from can_dbc.planar import Track
 from .intent import driver_accel_mps2
 from .params import CoreParams
 from .plan import Plan
+from .relevance import nearest_track
 from .region import EgoState, RegionDecision, Road, TrackBox, decide
 from .region.crossing import crossing_proximity
 from .region.decision import driver_disjoint_without
@@ -79,29 +79,21 @@ def assumed_road(ego: EgoState, params: CoreParams) -> Road:
     return Road(tuple(right + k * w for k in range(count + 1)), 0.0, current_curvature(ego, params.region))
 
 
-def line_track(tracks: Sequence[Track], inputs: CoreInputs, params: CoreParams, relevant: bool) -> int | None:
-    """The index of the track that is the 1-D core's object: the nearest to ``ObjectTrack``'s range and lateral
-    offset, each within ``track_range_tolerance_m``; None when the line does not judge that object
-    (``relevant``: confirmed, valid and in our path, as :func:`ecu.core.step.step` decides it) or no track is
-    near it. An object the radar has not yet reported consistently is no object to the line
-    (:mod:`ecu.core.track_confirmation`), so the region judges it with the others: when ``ObjectTrack``
-    switches to a new object (a car that cuts out reveals a stopped one), the region keeps the contingency
-    while the line confirms it (it released it for those 0.1 s before)."""
-    if not relevant:
-        return None
-    tol = params.track_range_tolerance_m
-    best, best_d = None, math.inf
-    for i, t in enumerate(tracks):
-        dx, dy = abs(t.x_m - inputs.object_range_m), abs(t.y_m - inputs.object_lateral_m)
-        if dx <= tol and dy <= tol and dx + dy < best_d:
-            best, best_d = i, dx + dy
-    return best
+def line_track(tracks: Sequence[Track], inputs: CoreInputs, relevant: bool, params: CoreParams) -> int | None:
+    """The index of the track that is the 1-D core's object (:func:`ecu.core.relevance.nearest_track`); None when
+    the line does not judge that object (``relevant``: confirmed, valid and in the predicted path, as
+    :func:`ecu.core.step.step` decides it) or no track is near it. An object the radar has not yet reported
+    consistently is no object to the line (:mod:`ecu.core.track_confirmation`), so the region judges it with
+    the others: when ``ObjectTrack`` switches to a new object (a car that cuts out reveals a stopped one), the
+    region keeps the contingency while the line confirms it (it released it for those 0.1 s before)."""
+    return nearest_track(tracks, inputs, params) if relevant else None
 
 
 def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams,
-                 impatient: bool = False, relevant: bool = False) -> RegionCycle | None:
-    """Steps 1-5 of the module docstring; None without planar tracks. ``impatient``: the way-out rule's car
-    takes its turn (:mod:`ecu.core.way_out`): no tightening against crossing vehicles."""
+                 relevant: bool, impatient: bool = False) -> RegionCycle | None:
+    """Steps 1-5 of the module docstring; None without planar tracks. ``relevant``: the line judges the 1-D
+    object (:func:`line_track`); ``impatient``: the way-out rule's car takes its turn (:mod:`ecu.core.way_out`):
+    no tightening against crossing vehicles."""
     tracks = inputs.tracks
     if not tracks:
         return None
@@ -111,7 +103,7 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     decision = decide(ego, boxes, road, params.region, steer=params.steering_authority)
     off_axis = True
     if not decision.driver_disjoint and plan.disjoint:
-        off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, params, relevant))
+        off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, relevant, params))
     crossing = 0.0 if impatient else \
         crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
                            0.0 if params.way_out == "none" else params.way_out_path_m)

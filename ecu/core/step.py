@@ -4,7 +4,8 @@ Order within the cycle, each step a call of the module that defines it:
 
 1. track confirmation and relevance: has the radar reported the object
    consistently (:mod:`ecu.core.track_confirmation`), is it valid and in our
-   path (:mod:`ecu.core.relevance`); an unconfirmed object is no object to
+   predicted path (:mod:`ecu.core.relevance`, at the last cycle's speed:
+   the speed checks below need the relevance); an unconfirmed object is no object to
    every later step, so it never starts braking;
 2. validity: fault flags from timeouts, E2E scores and impossible values
    (:mod:`ecu.core.validity`), the receiver's and the node's findings and the
@@ -37,7 +38,7 @@ from .params import CoreParams
 from .plan import plan
 from .planar import merged, region_cycle, report
 from .plausibility import Health, input_health, speed_radar_implausible
-from .relevance import in_path
+from .relevance import object_in_path
 from .speed_estimate import next_speed
 from .steering import REQUEST_RANGE_RAD, steering, steering_held, unavoidable
 from .track_confirmation import confirmed, next_track
@@ -68,14 +69,15 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     """Run one cycle; return the next state and the gated outputs."""
     track = next_track(state.track, inputs, params)
     confirmed_track = confirmed(track, params)
-    relevant = confirmed_track and inputs.object_valid and in_path(inputs.object_lateral_m, params)
+    in_our_path = inputs.object_valid and object_in_path(inputs, state.speed_mps, params)  # last cycle's speed
+    relevant = confirmed_track and in_our_path
     flags, wheels_ok, health, (speed, initialised, free_mean, since_brake) = _checked_speed(
         state, inputs, relevant, params)
     driver_ok = health.driver_ok
     fault = flags & ~REPORT_ONLY_FLAGS
     estimate, decel_mps2 = params.strategy_rules.cycle_decel(state, inputs, speed, wheels_ok, params)
     cycle_plan = plan(speed, inputs, relevant, decel_mps2, params)
-    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params, impatient(state, params), relevant) \
+    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params, relevant, impatient(state, params)) \
         if inputs.tracks else None
     cycle_plan = merged(cycle_plan, region, steering_held(state, speed, params), params)
     # standstill only matters while faulted (a held contingency ends there)
