@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import os
 import signal
-import socket
 import subprocess
 import sys
 import functools
@@ -20,6 +19,8 @@ import psutil
 from distributed import Client
 import pyarrow.parquet as pq
 import pytest
+
+from tests.loopback import loopback_only  # noqa: F401 - autouse: every socket to loopback
 
 from cosim.loop.master import run_scenario
 from cosim.scenarios.loader import scenario_from_dict
@@ -51,19 +52,6 @@ path = "ecu.strategy"
 values = ["none", "tightening"]
 """
 N_SMALL = 2 * 2 * 2 * 2
-
-
-@pytest.fixture(autouse=True)
-def loopback_only(monkeypatch):
-    """Any socket this process opens must go to 127.0.0.1 (or ::1, or a Unix socket)."""
-    real = socket.socket.connect
-
-    def connect(self, address):
-        if self.family in (socket.AF_INET, socket.AF_INET6):
-            assert address[0] in ("127.0.0.1", "::1", "localhost"), f"connection beyond loopback: {address}"
-        return real(self, address)
-
-    monkeypatch.setattr(socket.socket, "connect", connect)
 
 
 def _write(tmp: Path, text: str, name: str = "sweep.toml") -> Path:

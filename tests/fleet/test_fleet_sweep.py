@@ -6,12 +6,13 @@ The Dask part runs 4 short crossings (8 s simulated) twice: about 30 s on 2 core
 
 from __future__ import annotations
 
-import socket
 from pathlib import Path
 
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
+
+from tests.loopback import loopback_only  # noqa: F401 - autouse: every socket to loopback
 
 from cosim.cli.main import main
 from cosim.errors import ConfigError
@@ -46,19 +47,6 @@ values = ["none", "tightening"]
 DANCE_COLUMNS = {"collisions": pa.int64(), "collided": pa.bool_(), "impact_speed_mps": pa.float64(),
                  "deadlock_s": pa.float64(), "time_to_clear_s": pa.float64(), "all_cleared": pa.bool_(),
                  "min_decelerations": pa.int64(), "contingency_invocations": pa.int64()}
-
-
-@pytest.fixture(autouse=True)
-def loopback_only(monkeypatch):
-    """Any socket this process opens must go to 127.0.0.1 (or ::1, or a Unix socket)."""
-    real = socket.socket.connect
-
-    def connect(self, address):
-        if self.family in (socket.AF_INET, socket.AF_INET6):
-            assert address[0] in ("127.0.0.1", "::1", "localhost"), f"connection beyond loopback: {address}"
-        return real(self, address)
-
-    monkeypatch.setattr(socket.socket, "connect", connect)
 
 
 def _sweep(tmp: Path, text: str, name: str = "sweep.toml") -> Path:
