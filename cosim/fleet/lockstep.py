@@ -25,7 +25,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Mapping
+from typing import Any, Callable, Mapping
 
 from ..errors import EcuStallError, FmiStepError, interrupt_signal, signal_name
 from ..link.ecu_link import EcuOptions
@@ -99,29 +99,39 @@ class FleetRun:
         t_s = k * h
         self._post(t_s)
         self._row(t_s)
-        outs = [loop.cycle_out(t_s, cycle) for loop in loops]
-        nxt = [loop.cycle_in(t_s, cycle, out, a) for loop, out, a in zip(loops, outs, applied)]
+        outs = self._each(lambda i, loop: loop.cycle_out(t_s, cycle))
+        nxt = self._each(lambda i, loop: loop.cycle_in(t_s, cycle, outs[i], applied[i]))
         watching = [loop.actuate(k, a, out.ego) for loop, a, out in zip(loops, applied, outs)]
         n_sub = loops[0].n_sub
         if not any(watching) and all(loop.batch_steps for loop in loops):
-            for loop in loops:
-                loop.plant.step(t_s, n_sub * h)
+            self._each(lambda i, loop: loop.plant.step(t_s, n_sub * h))
             return k + n_sub, nxt, False
         for _ in range(n_sub):
-            for loop in loops:
-                loop.plant.step(k * h, h)
+            self._each(lambda i, loop: loop.plant.step(k * h, h))
             k += 1
             self._post(k * h)
             touched = [loop.touches(k) for loop, w in zip(loops, watching) if w]
             if any(touched):
-                self._contact_everywhere(k, watching)
+                self._contact_everywhere(k)
                 return k, nxt, True
         return k, nxt, False
 
-    def _contact_everywhere(self, k: int, watched: list[bool]) -> None:
-        """After a contact: every car not watching (or not yet hit) tests its bodies at this step too."""
+    def _each(self, call: Callable[[int, ClosedLoop], Any]) -> list:
+        """``call(i, loop)`` for every vehicle in order; an FMI error or a stalled ECU names its vehicle."""
+        out = []
+        for i, (v, loop) in enumerate(zip(self.fleet.vehicles, self.loops)):
+            try:
+                out.append(call(i, loop))
+            except FmiStepError as exc:
+                raise FmiStepError(f"{v.name}: {exc}", exc.time_s, exc.status) from exc
+            except EcuStallError as exc:
+                raise EcuStallError(f"{v.name}: {exc}", exc.time_s) from exc
+        return out
+
+    def _contact_everywhere(self, k: int) -> None:
+        """After a contact: every car not yet hit tests its bodies at this step too."""
         h = self.loops[0].h_s
-        for loop, w in zip(self.loops, watched):
+        for loop in self.loops:
             if not loop.record.metrics.collided:
                 ego = loop.ego_body.at(loop.plant.pose())
                 if loop.watch.candidates(k * h, ego, 0.0):

@@ -81,3 +81,27 @@ def test_right_of_way_clears_within_10_s_of_the_first_contingency(scene):
     _, dance = run_fleet(load_fleet(find_scene(scene), way_out="right_of_way"), None)
     assert dance.collisions == 0
     assert dance.all_cleared_s is not None and dance.time_to_clear_s <= 10.0
+
+
+def test_a_failing_plant_stops_the_scene_naming_the_vehicle_and_keeps_every_record(monkeypatch):
+    """The FMU of one car fails at t = 1 s: the scene stops there, every car's record keeps its cycles so far,
+    and the error names the car, the time and the cause."""
+    from cosim.errors import FmiStepError
+    from cosim.fleet.lockstep import FleetRun
+    from cosim.loop.experiment import resolve_fmu
+
+    fleet = load_fleet(find_scene("crossing"))
+    run = FleetRun(fleet, {v.name: resolve_fmu(v.scenario) for v in fleet.vehicles})
+    south = run.loops[1].plant
+    real = south.step
+
+    def failing(t_s, h_s):
+        if t_s >= 1.0:
+            raise FmiStepError(f"doStep failed at t = {t_s:.3f} s: fmi3Error", t_s, "fmi3Error")
+        return real(t_s, h_s)
+
+    monkeypatch.setattr(south, "step", failing)
+    record = run.run()
+    for r in record.records:
+        assert r.error.startswith("south: doStep failed at t = 1.000 s") and r.rows
+        assert abs(r.rows[-1][0] - 1.0) < 0.011
