@@ -49,7 +49,15 @@ def speeds_plot(path: Path, fleet: Fleet, record: FleetRecord) -> None:
                      + (f", hit at {r.metrics.impact_speed_mps:.2f} m/s" if r.metrics.collided else ""), fontsize=9)
         ax.grid(alpha=0.3)
     first.figure.axes[-1].set_xlabel("time (s)")
-    top = fig.add_subplot(grid[:, 1])
+    _paths_panel(fig.add_subplot(grid[:, 1]), fleet, record, plt)
+    fig.suptitle(f"{fleet.fleet.name}: speed of every car (red: its ECU in CONTINGENCY)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def _paths_panel(top, fleet: Fleet, record: FleetRecord, plt) -> None:
+    """Every car's path in the world frame (a dot at its end), the conflict zone, the world objects."""
     for i, name in enumerate(fleet.names):
         xs = [w[1 + 4 * i] for w in record.world_rows]
         ys = [w[2 + 4 * i] for w in record.world_rows]
@@ -64,7 +72,3 @@ def speeds_plot(path: Path, fleet: Fleet, record: FleetRecord) -> None:
     top.set_title("paths from above (world frame; dot: end)", fontsize=9)
     top.legend(fontsize=8)
     top.grid(alpha=0.3)
-    fig.suptitle(f"{fleet.fleet.name}: speed of every car (red: its ECU in CONTINGENCY)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
