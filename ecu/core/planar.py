@@ -79,19 +79,19 @@ def assumed_road(ego: EgoState, params: CoreParams) -> Road:
     return Road(tuple(right + k * w for k in range(count + 1)), 0.0, current_curvature(ego, params.region))
 
 
-def line_track(tracks: Sequence[Track], inputs: CoreInputs, relevant: bool, params: CoreParams) -> int | None:
+def line_track(tracks: Sequence[Track], inputs: CoreInputs, in_our_path: bool, params: CoreParams) -> int | None:
     """The index of the track that is the 1-D core's object (:func:`ecu.core.relevance.nearest_track`); None when
-    the line does not judge that object (``relevant``: confirmed, valid and in the predicted path, as
-    :func:`ecu.core.step.step` decides it) or no track is near it. An object the radar has not yet reported
-    consistently is no object to the line (:mod:`ecu.core.track_confirmation`), so the region judges it with
-    the others: when ``ObjectTrack`` switches to a new object (a car that cuts out reveals a stopped one), the
-    region keeps the contingency while the line confirms it (it released it for those 0.1 s before)."""
-    return nearest_track(tracks, inputs, params) if relevant else None
+    that object is not ``in_our_path`` (valid and in the predicted path, :mod:`ecu.core.relevance`) or no track
+    is near it. Confirmed or not, it is left to the line: while the line confirms a new object (3 reports),
+    neither judges it (a known gap: when a car that cuts out reveals a stopped one, the contingency can be
+    released for those 0.1 s; judging it in the region then changed the steering contingency's timing, and the
+    late stationary car at 80 km/h was hit, so it is not done)."""
+    return nearest_track(tracks, inputs, params) if in_our_path else None
 
 
 def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams,
-                 relevant: bool, impatient: bool = False) -> RegionCycle | None:
-    """Steps 1-5 of the module docstring; None without planar tracks. ``relevant``: the line judges the 1-D
+                 in_our_path: bool, impatient: bool = False) -> RegionCycle | None:
+    """Steps 1-5 of the module docstring; None without planar tracks. ``in_our_path``: the line judges the 1-D
     object (:func:`line_track`); ``impatient``: the way-out rule's car takes its turn (:mod:`ecu.core.way_out`):
     no tightening against crossing vehicles."""
     tracks = inputs.tracks
@@ -103,7 +103,7 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     decision = decide(ego, boxes, road, params.region, steer=params.steering_authority)
     off_axis = True
     if not decision.driver_disjoint and plan.disjoint:
-        off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, relevant, params))
+        off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, in_our_path, params))
     crossing = 0.0 if impatient else \
         crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
                            0.0 if params.way_out == "none" else params.way_out_path_m)

@@ -77,7 +77,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     fault = flags & ~REPORT_ONLY_FLAGS
     estimate, decel_mps2 = params.strategy_rules.cycle_decel(state, inputs, speed, wheels_ok, params)
     cycle_plan = plan(speed, inputs, relevant, decel_mps2, params)
-    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params, relevant, impatient(state, params)) \
+    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params, in_our_path, impatient(state, params)) \
         if inputs.tracks else None
     cycle_plan = merged(cycle_plan, region, steering_held(state, speed, params), params)
     # standstill only matters while faulted (a held contingency ends there)

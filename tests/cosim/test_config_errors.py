@@ -43,8 +43,8 @@ CASES = [  # kind, text appended to the valid file (TOML: a later table or key),
     ("sweep", "distribuion = \"uniform\"\n", "axis[0].distribuion: unknown key; did you mean axis[0].distribution?"),
     ("sweep", "cross = \"yes\"\n", "axis[0].cross: expected true or false, got 'yes'"),
     ("sweep", "std = -1.0\n", "axis[0].std: expected a value in (0, inf), got -1.0"),
-    ("sweep", "[sweep.x]\n", "sweep.x: unknown key; expected one of scenario, name, description, mode, seed, samples, "
-                             "latin_hypercube, replicates"),
+    ("sweep", "[sweep.x]\n", "sweep.x: unknown key; expected one of scenario, fleet, name, description, mode, seed, "
+                             "samples, latin_hypercube, replicates"),
 ]
 _FORMAT = re.compile(r"^(?P<file>[^:]+\.toml): (?P<key>[\w.\[\]]+): (?P<problem>[^\n]+)$")
 

@@ -58,7 +58,7 @@ def test_lane_change_passes_the_parked_car_without_braking(tmp_path):
     assert track.speed_mps.min() > 13.5
 
 
-def test_curve_keeps_its_lane_past_the_parked_car_and_today_s_ecu_brakes_for_it(tmp_path):
+def test_curve_keeps_its_lane_past_the_parked_car_and_today_s_ecu_still_brakes_a_little(tmp_path):
     view, metrics, strategy = run(tmp_path, "curve_parked_car")
     track = view.tracks[strategy]
     assert not metrics["collided"]
@@ -67,10 +67,12 @@ def test_curve_keeps_its_lane_past_the_parked_car_and_today_s_ecu_brakes_for_it(
     assert track.ego[:, 2].max() > 1.5  # and it did turn through the arc (pi / 2)
     # the parked car on the outside is passed with room: 1.24 m between the boxes with the ego on its lane's centre
     assert clearances_m(view, strategy, 0).min() > 1.0
-    # a false positive of the 1-D ECU (it assumes a straight path: in the curve the parked car lies
-    # ahead along the heading); the planar ECU of issue 22 is to pass it at speed
+    # a false positive, smaller since round 30: the 1-D ECU judges the parked car along the predicted path
+    # (the arc of the yaw rate), so it no longer brakes the car below 10 m/s; the region still invokes a
+    # contingency for it (its box is placed on the ego's axes, issue 22), so the 50 km/h does not hold.
+    # The planar ECU of issue 22 is to pass it at speed: then this test changes.
     modes = column(view, strategy, "ecu_mode")
-    assert "TIGHTENING" in modes and track.speed_mps.min() < 10.0
+    assert "CONTINGENCY" in modes and 10.0 < track.speed_mps.min() < 13.5
 
 
 def test_crossing_pedestrian_is_stopped_for(tmp_path):
