@@ -34,6 +34,21 @@ def test_four_way_deadlocks():
     assert dance.time_to_clear_s is None
 
 
+def test_reacting_drivers_press_again_and_the_plain_method_deadlocks():
+    """The crossing with human drivers (reaction times drawn per car): under the plain contingency both cars
+    stop short of each other, both drivers press the accelerator again, and neither moves for 10 s: no contact,
+    not cleared."""
+    record, dance = run_fleet(load_fleet(find_scene("crossing_reacting")), None, {"west": "none", "south": "none"})
+    assert dance.collisions == 0
+    assert dance.deadlock_s > 10.0 and dance.all_cleared_s is None
+    pedal = record.records[0].columns.index("accel_pedal_pct")
+    for car in record.records:
+        pedals = [row[pedal] for row in car.rows]
+        lifted = pedals.index(0.0)  # he lifted off when his car braked by itself ...
+        assert 100.0 in pedals[lifted:]  # ... and pressed again once it no longer braked
+        assert _speeds(car)[-1] == 0.0
+
+
 def _frames(path):
     return [(m.timestamp, m.arbitration_id, bytes(m.data)) for m in can.BLFReader(path)
             if m.arbitration_id not in LINK_IDS]
@@ -76,7 +91,7 @@ def test_the_dance_is_visible_and_tightening_keeps_it_from_colliding():
         assert car.decelerations >= 3 and min(car.recoveries_mps) >= 0.5
 
 
-@pytest.mark.parametrize("scene", ["crossing", "four_way"])
+@pytest.mark.parametrize("scene", ["crossing", "crossing_reacting", "four_way"])
 def test_right_of_way_clears_within_10_s_of_the_first_contingency(scene):
     _, dance = run_fleet(load_fleet(find_scene(scene), way_out="right_of_way"), None)
     assert dance.collisions == 0
