@@ -5,6 +5,8 @@
 * ``<vehicle>/timeseries.csv``, ``<vehicle>/can.blf`` (and each ``--can-log``), ``<vehicle>/events.json``:
   each vehicle's own, in its own frame, streamed as the run goes (:class:`~cosim.results.stream.RunStream`),
   so a run stopped at any moment keeps them up to the last simulated second;
+* ``<vehicle>/config.resolved.toml``: every value the vehicle's run used, as a one-car run writes it (its
+  strategy, its way-out rule and patience, its seed, its plant FMU and that FMU's sha256), once it has run;
 * ``world.csv``: every vehicle's box centre, heading and speed in the world frame, one row per ECU cycle;
 * ``metrics.json``: the status (running, complete, error, interrupted), each vehicle's metrics and the
   dance figures (:mod:`cosim.fleet.dance_metrics`); written before the run and on every way out;
@@ -21,10 +23,11 @@ from pathlib import Path
 from typing import Callable, Mapping, Sequence
 
 from ..link.ecu_link import EcuOptions
+from ..loop.ecu_config import ecu_config
 from ..loop.experiment import resolve_fmu
 from ..results.can_logs import check_can_logs
 from ..results.stream import RunStream, check_out_dir
-from ..results.writer import package_version, write_events, write_json_atomic
+from ..results.writer import package_version, provenance, write_events, write_json_atomic, write_resolved_config
 from .config import Fleet
 from .dance_metrics import SceneDance, scene_dance
 from .lockstep import FleetRecord, FleetRun
@@ -113,6 +116,10 @@ def _write_files(out_dir: Path, fleet: Fleet, run: FleetRun, record: FleetRecord
     write_fleet_metrics(out_dir, fleet, record, dance, error)
     for v, loop in zip(fleet.vehicles, run.loops):
         write_events(out_dir / v.name / "events.json", loop.record)
+    if record is not None:
+        for v, r in zip(fleet.vehicles, record.records):
+            write_resolved_config(out_dir / v.name / "config.resolved.toml", v.scenario,
+                                  ecu_config(v.scenario, r.strategy), provenance(v.scenario, [r]))
     _write_world(out_dir / "world.csv", fleet, run.world_rows)
     write_fleet_scene(out_dir / FLEET_SCENE_FILE, fleet_scene_of(fleet))
     if record is not None and dance is not None:

@@ -8,6 +8,7 @@ from cosim.cli.fleet import find_scene
 from cosim.cli.main import main
 from cosim.fleet.config import load_fleet
 from cosim.fleet.output import run_fleet
+from cosim.scenarios.loader import load_scenario
 
 #: frames the ECU process link adds on each bus (its clock and its announcement), not the run's traffic
 LINK_IDS = {0x7F0, 0x7F1, 0x3B0, 0x3B1}
@@ -71,6 +72,9 @@ def test_in_process_and_one_ecu_process_per_car_give_the_same_outputs(tmp_path):
     for car in ("west", "south"):
         assert _frames(a / car / "can.blf") == _frames(b / car / "can.blf")
     assert (a / "speeds.png").is_file() and "| west |" in (a / "report.md").read_text()
+    for seed, car in enumerate(("west", "south"), start=1):  # each car's run, resolved, reads as a scenario
+        resolved = load_scenario(a / car / "config.resolved.toml")
+        assert (resolved.scenario.seed, resolved.ecu.strategy) == (seed, "none")
 
 
 def test_cli_refuses_a_bad_set_in_one_line(capsys):
