@@ -43,6 +43,7 @@ from .relevance import nearest_track
 from .region import EgoState, RegionDecision, Road, TrackBox, decide
 from .region.crossing import VEHICLE_CLASSES, crossing_proximity
 from .region.decision import driver_disjoint_without
+from .region.narrowing import NARROWING_RULES
 from .region.paths import current_curvature
 from .types import CoreInputs, RegionReport
 
@@ -50,7 +51,8 @@ from .types import CoreInputs, RegionReport
 class RegionCycle(NamedTuple):
     """One cycle's region: the ego as the region saw it, the decision over every track, whether the
     driver's stopping path is disjoint from the tracks the 1-D line does not judge, and the nominal path's
-    proximity to crossing vehicles (:mod:`ecu.core.region.crossing`)."""
+    proximity to crossing vehicles (:mod:`ecu.core.region.crossing`) or, yielding at a narrowing, to the line
+    where it waits (:mod:`ecu.core.region.narrowing`), whichever is higher."""
 
     ego: EgoState
     decision: RegionDecision
@@ -104,7 +106,7 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
                  in_our_path: bool, impatient: bool = False) -> RegionCycle | None:
     """Steps 1-5 of the module docstring; None without planar tracks. ``in_our_path``: the line judges the 1-D
     object (:func:`line_track`); ``impatient``: the way-out rule's car takes its turn (:mod:`ecu.core.way_out`):
-    no tightening against crossing vehicles."""
+    no tightening against crossing vehicles nor at a narrowing."""
     tracks = inputs.tracks
     if not tracks:
         return None
@@ -115,9 +117,10 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     off_axis = True
     if not decision.driver_disjoint and plan.disjoint:
         off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, in_our_path, speed_mps, params))
-    crossing = 0.0 if impatient else \
+    crossing = 0.0 if impatient else max(
         crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
-                           0.0 if params.way_out == "none" else params.way_out_path_m)
+                           0.0 if params.way_out == "none" else params.way_out_path_m),
+        NARROWING_RULES[params.way_out](boxes, ego, params))
     return RegionCycle(ego, decision, off_axis, crossing)
 
 
