@@ -260,6 +260,13 @@ class CoreParams:
         doc="right_of_way: a car given way to is assumed to go on this far along its velocity (its way through the "
             "crossing: do not enter a crossing where one would have to stop, Vienna Convention 1968, art. 18(2))")
 
+    narrowing_wait_m: float = setting(
+        20.0, unit="m", allowed=Range(0.0, 200.0),
+        doc="right_of_way at a narrowing (ecu.core.region.narrowing, StVO section 6): the car that lets an oncoming "
+            "one through stops this far before the narrowing's entry, so that the other, leaving it in the middle "
+            "of the road, is back on its side before it passes us (half a lane, 1.75 m, in a 15 m sine at 30 km/h, "
+            "2.7 m/s^2 of lateral acceleration, plus its stopping path at 30 km/h, 7 m; argued, not sourced)")
+
     model_decel_mps2: float = field(init=False, repr=False, compare=False)
     model_decel_fraction: float = field(init=False, repr=False, compare=False)
     #: the strategy's rules (:mod:`ecu.core.strategies`): what it decides each cycle

@@ -41,8 +41,9 @@ from .params import CoreParams
 from .plan import Plan
 from .relevance import nearest_track
 from .region import EgoState, RegionDecision, Road, TrackBox, decide
-from .region.crossing import crossing_proximity
+from .region.crossing import VEHICLE_CLASSES, crossing_proximity
 from .region.decision import driver_disjoint_without
+from .region.narrowing import NARROWING_RULES
 from .region.paths import current_curvature
 from .types import CoreInputs, RegionReport
 
@@ -50,7 +51,8 @@ from .types import CoreInputs, RegionReport
 class RegionCycle(NamedTuple):
     """One cycle's region: the ego as the region saw it, the decision over every track, whether the
     driver's stopping path is disjoint from the tracks the 1-D line does not judge, and the nominal path's
-    proximity to crossing vehicles (:mod:`ecu.core.region.crossing`)."""
+    proximity to crossing vehicles (:mod:`ecu.core.region.crossing`) or, yielding at a narrowing, to the line
+    where it waits (:mod:`ecu.core.region.narrowing`), whichever is higher."""
 
     ego: EgoState
     decision: RegionDecision
@@ -79,21 +81,32 @@ def assumed_road(ego: EgoState, params: CoreParams) -> Road:
     return Road(tuple(right + k * w for k in range(count + 1)), 0.0, current_curvature(ego, params.region))
 
 
-def line_track(tracks: Sequence[Track], inputs: CoreInputs, in_our_path: bool, params: CoreParams) -> int | None:
+def line_track(tracks: Sequence[Track], inputs: CoreInputs, in_our_path: bool, speed_mps: float,
+               params: CoreParams) -> int | None:
     """The index of the track that is the 1-D core's object (:func:`ecu.core.relevance.nearest_track`); None when
-    that object is not ``in_our_path`` (valid and in the predicted path, :mod:`ecu.core.relevance`) or no track
-    is near it. Confirmed or not, it is left to the line: while the line confirms a new object (3 reports),
-    neither judges it (a known gap: when a car that cuts out reveals a stopped one, the contingency can be
-    released for those 0.1 s; judging it in the region then changed the steering contingency's timing, and the
-    late stationary car at 80 km/h was hit, so it is not done)."""
-    return nearest_track(tracks, inputs, params) if in_our_path else None
+    that object is not ``in_our_path`` (valid and in the predicted path, :mod:`ecu.core.relevance`), no track
+    is near it, or it is an oncoming vehicle (:func:`oncoming`). Confirmed or not, it is left to the line: while
+    the line confirms a new object (3 reports), neither judges it (a known gap: when a car that cuts out reveals
+    a stopped one, the contingency can be released for those 0.1 s; judging it in the region then changed the
+    steering contingency's timing, and the late stationary car at 80 km/h was hit, so it is not done)."""
+    i = nearest_track(tracks, inputs, params) if in_our_path else None
+    return None if i is not None and oncoming(tracks[i], speed_mps, params) else i
+
+
+def oncoming(track: Track, speed_mps: float, params: CoreParams) -> bool:
+    """A vehicle coming toward us over ground (its speed along our heading below ``-moving_object_speed_mps``
+    of the region): the line stops short of where it is now, as if it stood (its stopping region is its own
+    responsibility, :mod:`ecu.core.stopping_path`), which two equipped cars head-on both do, and each then
+    covers its own stop toward the other: they meet (issue 23, ``crd fleet narrow_passage``). The region
+    judges such a track by its stopping region, and the driver's stopping path is kept disjoint from it too."""
+    return track.size_class in VEHICLE_CLASSES and track.vx_mps + speed_mps < -params.region.moving_object_speed_mps
 
 
 def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams,
                  in_our_path: bool, impatient: bool = False) -> RegionCycle | None:
     """Steps 1-5 of the module docstring; None without planar tracks. ``in_our_path``: the line judges the 1-D
     object (:func:`line_track`); ``impatient``: the way-out rule's car takes its turn (:mod:`ecu.core.way_out`):
-    no tightening against crossing vehicles."""
+    no tightening against crossing vehicles nor at a narrowing."""
     tracks = inputs.tracks
     if not tracks:
         return None
@@ -103,10 +116,11 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     decision = decide(ego, boxes, road, params.region, steer=params.steering_authority)
     off_axis = True
     if not decision.driver_disjoint and plan.disjoint:
-        off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, in_our_path, params))
-    crossing = 0.0 if impatient else \
+        off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, in_our_path, speed_mps, params))
+    crossing = 0.0 if impatient else max(
         crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
-                           0.0 if params.way_out == "none" else params.way_out_path_m)
+                           0.0 if params.way_out == "none" else params.way_out_path_m),
+        NARROWING_RULES[params.way_out](boxes, ego, params))
     return RegionCycle(ego, decision, off_axis, crossing)
 
 

@@ -39,9 +39,23 @@ one that does.
 * ``SPEED_RADAR``: for a stationary object the closing speed ``-range_rate``
   equals our own speed; an object moving away closes slower. So a valid
   track closing faster than ``speed + radar_speed_tolerance_mps`` means our
-  speed is wrong (forged or failed wheel speeds) or an object oncoming in our
-  lane; either way the radar's closing speed is the one the stopping path
-  must use (:mod:`ecu.core.degraded`). Measured in the paper scenario, the
+  speed is wrong (forged or failed wheel speeds) or the object is oncoming
+  in our path; the radar's closing speed is then the one the stopping path
+  must use (:mod:`ecu.core.degraded`). One object cannot tell the two apart:
+  the radar measures only relative speed. The ground can: every standing
+  object closes at our true speed, so with planar tracks (issue 23) a
+  **standing reference**, another track closing at our speed estimate within
+  the same tolerance (``|vx + speed| <= tolerance``, :func:`ground_confirms`),
+  shows that the wheels agree with the radar, and the object in our path that
+  closes faster moves toward us: oncoming traffic, not a sensor fault (``crd
+  fleet narrow_passage``: each car read the other, oncoming in the one lane
+  between parked cars, as a fault and stopped in the passage). Wheels that
+  read wrong by more than the tolerance are still caught: the standing
+  objects then close at the true speed, not at the estimate, and confirm
+  nothing; without planar tracks or without a standing object in view the
+  check is the one before (the 1-D world is unchanged). Known limit: a track
+  moving our way at just the forger's offset looks like a standing reference.
+  Measured in the paper scenario, the
   closing speed exceeds the speed estimate by at most 3.3 m/s (3.9 m/s on a
   road of friction 0.6): under ABS the reference speed reads low and the
   radar lags 0.1 s; tolerance 6 m/s. A forger who lowers the wheel speeds by
@@ -59,6 +73,7 @@ import math
 from typing import NamedTuple
 
 from .params import DRIVEN_WHEELS, NON_DRIVEN_WHEELS, CoreParams
+from .relevance import nearest_track
 from .speed_estimate import wheels_braked
 from .types import CYCLES_MAX, RECEIVER_FLAGS, CoreInputs, CoreState, FaultFlag
 from .validity import AGE_TOLERANCE_S
@@ -77,11 +92,20 @@ class Health(NamedTuple):
     traction_excess_mps: float
 
 
+def ground_confirms(speed_mps: float, inputs: CoreInputs, params: CoreParams) -> bool:
+    """A planar track other than the one in our path closes at our speed estimate within the tolerance: a
+    standing reference that the wheels agree with the radar (module doc)."""
+    tol = params.radar_speed_tolerance_mps
+    own = nearest_track(inputs.tracks, inputs, params) if inputs.object_valid else None
+    return any(i != own and abs(t.vx_mps + speed_mps) <= tol for i, t in enumerate(inputs.tracks))
+
+
 def speed_radar_implausible(speed_mps: float, inputs: CoreInputs, relevant: bool, params: CoreParams) -> bool:
     """A ``relevant`` object (valid and in our path, :mod:`ecu.core.relevance`) closes faster than our
     speed estimate plus the tolerance (out-of-path objects, e.g. oncoming traffic in the next lane,
-    are not compared)."""
-    return relevant and -inputs.object_range_rate_mps > speed_mps + params.radar_speed_tolerance_mps
+    are not compared), and no standing reference confirms our speed (:func:`ground_confirms`)."""
+    return relevant and -inputs.object_range_rate_mps > speed_mps + params.radar_speed_tolerance_mps \
+        and not ground_confirms(speed_mps, inputs, params)
 
 
 def wheel_spread(state: CoreState, wheels: tuple[float, ...], braking: bool, driving: bool,

@@ -95,7 +95,7 @@ def test_the_dance_is_visible_and_tightening_keeps_it_from_colliding():
         assert car.decelerations >= 3 and min(car.recoveries_mps) >= 0.5
 
 
-@pytest.mark.parametrize("scene", ["crossing", "crossing_reacting", "four_way"])
+@pytest.mark.parametrize("scene", ["crossing", "crossing_reacting", "four_way", "narrow_passage"])
 def test_right_of_way_clears_within_10_s_of_the_first_contingency(scene):
     _, dance = run_fleet(load_fleet(find_scene(scene), way_out="right_of_way"), None)
     assert dance.collisions == 0

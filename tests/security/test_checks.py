@@ -6,6 +6,8 @@ import can
 import pytest
 
 from can_dbc import RX_RATE, CounterSequence, Receiver, encode
+from can_dbc.contract import enumeration
+from can_dbc.planar import Track
 from ecu import EcuConfig, EcuNode
 from ecu.core import CoreInputs, CoreParams, CoreState, FaultFlag, Mode, step
 
@@ -57,6 +59,33 @@ def test_oncoming_traffic_in_the_next_lane_is_not_a_speed_radar_fault():
     oncoming = _inputs(0.12, range_m=100.0, rate=-45.0)._replace(object_lateral_m=3.5)
     _, out = step(_settled(), oncoming, P)
     assert out.fault_flags == 0 and out.mode == Mode.STANDBY
+
+
+#: the DBC's size class of a car (Track<i>SizeClass)
+CAR = next(v for v, name in enumeration("RadarTrack0", "Track0SizeClass").items() if name == "CAR")
+
+
+def _head_on(wheel_speed, true_speed=20.0):
+    """An oncoming car in our path 60 m ahead at 15 m/s, and a car parked beside the road 30 m ahead, seen by a
+    radar while we go ``true_speed``; our wheels read ``wheel_speed``."""
+    tracks = (Track(1, CAR, 7, 60.0, 0.0, -(true_speed + 15.0), 0.0),
+              Track(2, CAR, 7, 30.0, -2.9, -true_speed, 0.0))
+    return _inputs(0.12, speed=wheel_speed, range_m=60.0, rate=-(true_speed + 15.0), tracks=tracks)
+
+
+def test_an_oncoming_car_in_our_path_is_not_a_speed_radar_fault_when_the_ground_confirms_our_speed():
+    """The parked car closes at our wheel speed: the wheels agree with the radar, so the in-path object that
+    closes 15 m/s faster moves toward us (ecu.core.plausibility.ground_confirms)."""
+    _, out = step(_settled(), _head_on(20.0), P)
+    assert not out.fault_flags & (1 << FaultFlag.SPEED_RADAR)
+    assert out.mode != Mode.FAULT
+
+
+def test_wheels_that_read_wrong_are_still_caught_beside_standing_objects():
+    """Wheels forged 8 m/s low: the parked car closes at the true 20 m/s, confirms nothing, SPEED_RADAR."""
+    low = lambda t: _inputs(t, speed=12.0, range_m=200.0)  # noqa: E731
+    _, out = step(_settled(low), _head_on(12.0), P)
+    assert out.fault_flags & (1 << FaultFlag.SPEED_RADAR) and out.mode == Mode.FAULT
 
 
 def test_auth_failures_are_reported_but_do_not_fault():

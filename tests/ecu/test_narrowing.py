@@ -1,0 +1,105 @@
+"""A narrowing ahead and who passes it first (ecu.core.region.narrowing, StVO section 6)."""
+
+import pytest
+
+from can_dbc.contract import enumeration
+from ecu.core.params import CoreParams
+from ecu.core.region import EgoState, TrackBox
+from ecu.core.region.crossing import WAY_OUT_RULES
+from ecu.core.region.narrowing import (
+    NARROWING_RULES,
+    TIE_S,
+    find_narrowing,
+    must_yield,
+    room_for_two_m,
+)
+
+CLASS = {name: value for value, name in enumeration("RadarTrack0", "Track0SizeClass").items()}
+SPEED = 8.0
+P = CoreParams(strategy="tightening", way_out="right_of_way")
+
+
+def _parked(x_m: float, y_m: float) -> TrackBox:
+    """A parked car's nearest point (x ahead of our bumper, y left), standing: it closes at our speed."""
+    return TrackBox(x_m, y_m, -SPEED, 0.0, CLASS["UNKNOWN"], 0.17)
+
+
+def _passage(entry_m: float = 30.0, inner_m: float = 2.25, lane_offset_m: float = 1.75) -> list[TrackBox]:
+    """Two pairs of parked cars 10 m apart, their inner sides ``inner_m`` from the road's centre line, which is
+    ``lane_offset_m`` to our left (we drive in our right-hand lane)."""
+    return [_parked(entry_m + dx, lane_offset_m + side * inner_m) for dx in (0.0, 10.0) for side in (1, -1)]
+
+
+def _oncoming(x_m: float, speed_mps: float = 8.0, y_m: float = 2.6) -> TrackBox:
+    """A car coming toward us over ground at ``speed_mps`` in the lane left of ours (its nearest point)."""
+    return TrackBox(x_m, y_m, -SPEED - speed_mps, 0.0, CLASS["CAR"], 0.17)
+
+
+def _ego(speed_mps: float = SPEED) -> EgoState:
+    return EgoState(speed_mps, 0.0, P.model_decel_mps2)
+
+
+def test_parked_cars_on_both_sides_narrower_than_two_cars_make_a_narrowing():
+    n = find_narrowing(_passage(), SPEED, P)
+    assert n is not None
+    assert n.entry_m == 30.0 and n.exit_m == pytest.approx(44.0)  # the far pair's near end plus a class length
+    assert n.width_m == pytest.approx(4.5) and n.ours and n.theirs
+    assert room_for_two_m(P) == pytest.approx(2 * (1.815 + 2 * (0.1 + 3 * 0.17)))
+
+
+@pytest.mark.parametrize("tracks, why", [
+    ([_parked(30.0, 4.0), _parked(40.0, 4.0)], "parked on one side only"),
+    (_passage(inner_m=3.5), "a street 7 m wide between them: room for two"),
+    ([TrackBox(30.0, t.y_m, -SPEED + 5.0, 0.0, t.size_class, 0.17) for t in _passage()], "moving, not parked"),
+])
+def test_what_is_not_a_narrowing(tracks, why):
+    assert find_narrowing(tracks, SPEED, P) is None, why
+
+
+def test_an_obstacle_only_in_the_other_lane_is_not_ours():
+    """The parked cars leave our lane free (the centre line 1.75 m left, the right-hand ones beyond our lane's
+    edge): the oncoming car must let us through, not we it."""
+    n = find_narrowing(_passage(lane_offset_m=-0.5), SPEED, P)
+    assert n is not None and not n.ours
+    assert not must_yield(n, [*_passage(lane_offset_m=-0.5), _oncoming(60.0)], _ego(), P)
+
+
+def test_the_car_that_reaches_the_narrowing_later_lets_the_other_through():
+    """We are 30 m from the entry (3.75 s); the other is 16 m past the exit (2 s): it goes first."""
+    n = find_narrowing(_passage(), SPEED, P)
+    assert must_yield(n, [*_passage(), _oncoming(60.0)], _ego(), P)
+
+
+def test_the_car_clearly_first_goes_on():
+    """The other is 40 m past the exit (5 s) when we are 3.75 s from the entry."""
+    n = find_narrowing(_passage(), SPEED, P)
+    assert not must_yield(n, [*_passage(), _oncoming(84.0)], _ego(), P)
+
+
+def test_in_the_tie_both_yield():
+    """Arrivals within TIE_S: we 3.75 s from the entry, the other 3.75 s + 0.4 s from the far end."""
+    n = find_narrowing(_passage(), SPEED, P)
+    x = n.exit_m + SPEED * (30.0 / SPEED + TIE_S - 0.1)
+    assert must_yield(n, [*_passage(), _oncoming(x)], _ego(), P)
+
+
+def test_a_standing_car_on_the_other_side_is_not_oncoming_traffic():
+    n = find_narrowing(_passage(), SPEED, P)
+    assert not must_yield(n, [*_passage(), _oncoming(60.0, speed_mps=0.0)], _ego(), P)
+
+
+def test_the_yield_tightens_toward_a_line_before_the_narrowing_and_only_under_right_of_way():
+    """Stop short of the entry by narrowing_wait_m: the proximity grows as that line comes nearer; the other
+    rules do not tighten at a narrowing."""
+    rule = NARROWING_RULES["right_of_way"]
+    near, far = (rule([*_passage(entry), _oncoming(entry + 30.0)], _ego(), P) for entry in (25.0, 32.0))
+    assert 0.0 < far < near <= 1.0
+    assert NARROWING_RULES["none"]([*_passage(25.0), _oncoming(55.0)], _ego(), P) == 0.0
+    assert tuple(NARROWING_RULES) == tuple(WAY_OUT_RULES)
+
+
+def test_once_in_the_narrowing_we_never_yield():
+    """Its entry at or behind our bumper: we are in it and go on (the plant cannot back out)."""
+    n = find_narrowing(_passage(), SPEED, P)
+    assert must_yield(n, [*_passage(), _oncoming(60.0)], _ego(), P)
+    assert not must_yield(n._replace(entry_m=0.0), [*_passage(), _oncoming(60.0)], _ego(), P)
