@@ -102,6 +102,14 @@ def test_right_of_way_clears_within_10_s_of_the_first_contingency(scene):
     assert dance.all_cleared_s is not None and dance.time_to_clear_s <= 10.0
 
 
+def test_the_exact_tie_at_a_narrowing_stays_without_contact():
+    """Both cars reach the narrowing together: StVO section 6 gives neither the right to go, the seeded patience
+    (2.89 and 2.98 s) does not part them, and they wait: no contact, not cleared (the way out's open case)."""
+    _, dance = run_fleet(load_fleet(find_scene("narrow_passage_tie"), way_out="right_of_way"), None)
+    assert dance.collisions == 0
+    assert dance.all_cleared_s is None and dance.deadlock_s > 10.0
+
+
 def test_a_failing_plant_stops_the_scene_naming_the_vehicle_and_keeps_every_record(monkeypatch):
     """The FMU of one car fails at t = 1 s: the scene stops there, every car's record keeps its cycles so far,
     and the error names the car, the time and the cause."""
