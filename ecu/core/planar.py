@@ -58,6 +58,8 @@ class RegionCycle(NamedTuple):
     decision: RegionDecision
     off_axis_disjoint: bool
     crossing_proximity: float
+    #: waiting in a standoff at a narrowing (:func:`ecu.core.region.narrowing.standoff`)
+    standoff: bool = False
 
 
 def ego_state(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams) -> EgoState:
@@ -117,11 +119,17 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     off_axis = True
     if not decision.driver_disjoint and plan.disjoint:
         off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, in_our_path, speed_mps, params))
+    narrowing = NARROWING_RULES[params.way_out](boxes, ego, params)
     crossing = 0.0 if impatient else max(
         crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
-                           0.0 if params.way_out == "none" else params.way_out_path_m),
-        NARROWING_RULES[params.way_out](boxes, ego, params))
-    return RegionCycle(ego, decision, off_axis, crossing)
+                           0.0 if params.way_out == "none" else params.way_out_path_m), narrowing.proximity)
+    return RegionCycle(ego, decision, off_axis, crossing, narrowing.standoff)
+
+
+def held_back(region: RegionCycle | None) -> bool:
+    """What the way-out patience counts (:mod:`ecu.core.way_out`): something near the nominal path (the region's
+    proximity), or a standoff at a narrowing (waiting 20 m before it, nothing need be near)."""
+    return region is not None and (region.decision.proximity > 0.0 or region.standoff)
 
 
 def tightened(plan: Plan, proximity: float, params: CoreParams) -> Plan:

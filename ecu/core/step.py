@@ -36,7 +36,7 @@ from .modes import decide
 from .output_gate import gate, gate_steering
 from .params import CoreParams
 from .plan import plan
-from .planar import merged, region_cycle, report
+from .planar import held_back, merged, region_cycle, report
 from .plausibility import Health, input_health, speed_radar_implausible
 from .relevance import object_in_path
 from .speed_estimate import next_speed
@@ -77,7 +77,8 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     fault = flags & ~REPORT_ONLY_FLAGS
     estimate, decel_mps2 = params.strategy_rules.cycle_decel(state, inputs, speed, wheels_ok, params)
     cycle_plan = plan(speed, inputs, relevant, decel_mps2, params)
-    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params, in_our_path, impatient(state, params)) \
+    waited_out = impatient(state, params)
+    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params, in_our_path, waited_out) \
         if inputs.tracks else None
     cycle_plan = merged(cycle_plan, region, steering_held(state, speed, params), params)
     # standstill only matters while faulted (a held contingency ends there)
@@ -100,7 +101,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
         gate_interventions=state.gate_interventions + interventions, decel=estimate, track=track,
         cycles_since_drive=health.cycles_since_drive, traction_excess_mps=health.traction_excess_mps,
         steer_curvature_1pm=steer.curvature_1pm, steer_request_rad=steer_rad,
-        slow_cycles=next_slow_cycles(state, speed, region is not None and region.decision.proximity > 0.0, params))
+        slow_cycles=next_slow_cycles(state, speed, waited_out or held_back(region), params))
     outputs = CoreOutputs(
         mode=gated.mode, override_active=gated.override_active, throttle_limit_pct=gated.throttle_limit_pct,
         brake_decel_request_mps2=gated.brake_decel_request_mps2, fault_flags=flags,

@@ -4,8 +4,9 @@ Giving way to the right (:data:`ecu.core.region.crossing.WAY_OUT_RULES`) resolve
 of them has the other on its right and yields, the other does not. At a four-way crossing each car has one on
 its right, every car yields, and they dance or stand (traffic law leaves that case to the drivers). The tie is
 broken by **patience**: a car that has been slow (below ``way_out_slow_speed_mps``) for
-``way_out_patience_s`` while something is near its nominal path (the region's proximity above 0) stops
-giving way and takes its turn; it gives way again once it is going (above the slow speed). Each car's ECU
+``way_out_patience_s`` while held back (something near its nominal path, the region's proximity above 0, or a
+standoff at a two-sided narrowing, :func:`ecu.core.planar.held_back`) stops giving way and takes its turn; it
+stays impatient while it is slow, and gives way again once it is going (above the slow speed). Each car's ECU
 has its own patience (a fleet draws it per car from its seed, :mod:`cosim.fleet.config`), so the cars do not
 all lose patience at once. Only tightening is given up: the contingency keeps the car's stopping path
 disjoint from every object's stopping region, so the car that takes its turn still stops for a car that
@@ -26,7 +27,7 @@ def impatient(state: CoreState, params: CoreParams) -> bool:
 
 
 def next_slow_cycles(state: CoreState, speed_mps: float, near: bool, params: CoreParams) -> int:
-    """Cycles slow with something near the nominal path, counted on; 0 once going or nothing is near."""
+    """Cycles slow while ``near`` (held back, or impatient already), counted on; 0 once going or not ``near``."""
     if params.way_out == "none" or speed_mps >= params.way_out_slow_speed_mps or not near:
         return 0
     return min(state.slow_cycles + 1, math.ceil(params.way_out_patience_s / params.cycle_s) + 1)

@@ -92,9 +92,9 @@ def test_the_yield_tightens_toward_a_line_before_the_narrowing_and_only_under_ri
     """Stop short of the entry by narrowing_wait_m: the proximity grows as that line comes nearer; the other
     rules do not tighten at a narrowing."""
     rule = NARROWING_RULES["right_of_way"]
-    near, far = (rule([*_passage(entry), _oncoming(entry + 30.0)], _ego(), P) for entry in (25.0, 32.0))
+    near, far = (rule([*_passage(entry), _oncoming(entry + 30.0)], _ego(), P).proximity for entry in (25.0, 32.0))
     assert 0.0 < far < near <= 1.0
-    assert NARROWING_RULES["none"]([*_passage(25.0), _oncoming(55.0)], _ego(), P) == 0.0
+    assert NARROWING_RULES["none"]([*_passage(25.0), _oncoming(55.0)], _ego(), P).proximity == 0.0
     assert tuple(NARROWING_RULES) == tuple(WAY_OUT_RULES)
 
 
@@ -103,3 +103,41 @@ def test_once_in_the_narrowing_we_never_yield():
     n = find_narrowing(_passage(), SPEED, P)
     assert must_yield(n, [*_passage(), _oncoming(60.0)], _ego(), P)
     assert not must_yield(n._replace(entry_m=0.0), [*_passage(), _oncoming(60.0)], _ego(), P)
+
+
+def _standing_at(speed_mps: float):
+    """Tracks as a car at ``speed_mps`` sees them, 2 m short of its waiting line: the passage's parked cars and a
+    car standing 10 m beyond its far end in the lane left of ours (the other car of the standoff, on its side)."""
+    entry = P.narrowing_wait_m + 2.0
+    parked = [TrackBox(t.x_m, t.y_m, -speed_mps, 0.0, t.size_class, t.sigma_m) for t in _passage(entry)]
+    return parked, TrackBox(entry + 24.0, 2.6, -speed_mps, 0.0, CLASS["CAR"], 0.17)
+
+
+def test_two_cars_waiting_at_a_two_sided_narrowing_are_in_a_standoff_the_patience_counts():
+    """Both wait before the narrowing: neither sees the other coming, so the rule keeps us waiting (a standoff)
+    and says so, for the way-out patience to count; a car on the move, or our going, is no standoff."""
+    from ecu.core.region.narrowing import standoff
+
+    parked, partner = _standing_at(0.0)
+    n = find_narrowing(parked, 0.0, P)
+    assert standoff(n, [*parked, partner], _ego(0.0), P)
+    answer = NARROWING_RULES["right_of_way"]([*parked, partner], _ego(0.0), P)
+    assert answer.standoff and answer.proximity > 0.0
+    assert not standoff(n, parked, _ego(0.0), P)  # nobody waits on the other side
+    going = P.way_out_slow_speed_mps + 0.5
+    parked_fast, partner_fast = _standing_at(going)
+    assert not standoff(find_narrowing(parked_fast, going, P), [*parked_fast, partner_fast], _ego(going), P)
+    creeping, _ = _standing_at(1.0)  # we creep at 1 m/s; it comes at 4 m/s: we yield, and that is no standoff
+    answer = NARROWING_RULES["right_of_way"]([*creeping, partner._replace(vx_mps=-5.0)], _ego(1.0), P)
+    assert answer.proximity > 0.0 and not answer.standoff
+
+
+def test_a_one_sided_narrowing_is_no_standoff():
+    """Only our side is blocked: the other car has the right to go and does not wait for us (StVO section 6)."""
+    from ecu.core.region.narrowing import standoff
+
+    parked = [TrackBox(x, y, 0.0, 0.0, CLASS["UNKNOWN"], 0.17) for x in (30.0, 40.0) for y in (-0.4, 5.5)]
+    partner = TrackBox(54.0, 2.6, 0.0, 0.0, CLASS["CAR"], 0.17)
+    n = find_narrowing(parked, 0.0, P)
+    assert n is not None and n.ours and not n.theirs
+    assert not standoff(n, [*parked, partner], _ego(0.0), P)

@@ -32,8 +32,15 @@ our waiting line (``t_them_out > t_wait``: a car that would get there later slow
 if the obstacle is theirs too (both must let the other through: the symmetric passage), when it enters first
 (``t_them_in <= t_in + TIE_S``, :data:`TIE_S`); with the obstacle ours alone, when it enters before we have left
 (``t_them_in < t_out``). Already in the narrowing (its entry at or behind our bumper) we never yield. In the
-exact tie both yield and slow; the seeded patience of :mod:`ecu.core.way_out` is what can break it (the car whose
-patience runs out first takes its turn), and only if the other sees it go before its own runs out.
+exact tie both yield and slow.
+
+**Standoff** (:func:`standoff`): at a two-sided narrowing, once both wait (slow, below
+``way_out_slow_speed_mps``), neither sees the other coming and so neither would yield: both would go at once and
+meet in the middle. So a car slow before a two-sided narrowing also waits while a standing vehicle waits on the
+other side (:func:`waiting_partner`), and that wait, not the one for a car on the move, is what the seeded
+patience of :mod:`ecu.core.way_out` counts. The car whose patience runs out first takes its turn; the other sees
+it come, yields to a car on the move, and its patience starts again. Two draws closer than the time to see the
+other start (its speed over ``moving_object_speed_mps``, a radar latency later: about 0.4 s) still both go.
 
 **Yielding** (:func:`narrowing_proximity`): the car must stop *before* the narrowing, ``narrowing_wait_m``
 short of its entry, where the oncoming car, leaving it in the middle of the road, can get back to its own side
@@ -135,6 +142,23 @@ def _oncoming(track: TrackBox, speed_mps: float, narrowing: Narrowing, params: C
     return -ux if ok else 0.0
 
 
+def waiting_partner(track: TrackBox, speed_mps: float, narrowing: Narrowing, params: CoreParams) -> bool:
+    """A standing vehicle in our lane or the one left of it, beyond the narrowing's far end and within two waiting
+    distances of it: the other car of a two-sided narrowing, waiting on its side (module docstring, Standoff)."""
+    standing = math.hypot(track.vx_mps + speed_mps, track.vy_mps) <= params.region.moving_object_speed_mps
+    lanes = -0.5 * params.lane_width_m <= track.y_m <= 1.5 * params.lane_width_m
+    beyond = narrowing.exit_m <= track.x_m <= narrowing.exit_m + 2.0 * params.narrowing_wait_m
+    return track.size_class in VEHICLE_CLASSES and standing and lanes and beyond
+
+
+def standoff(narrowing: Narrowing, tracks: Sequence[TrackBox], ego: EgoState, params: CoreParams) -> bool:
+    """Both sides must let the other through, we wait, and so does a car on the other side: neither has the right
+    to go, and only the patience of :mod:`ecu.core.way_out` can part them (module docstring, Standoff)."""
+    if not (narrowing.ours and narrowing.theirs) or ego.speed_mps >= params.way_out_slow_speed_mps:
+        return False
+    return any(waiting_partner(t, ego.speed_mps, narrowing, params) for t in tracks)
+
+
 def must_yield(narrowing: Narrowing, tracks: Sequence[TrackBox], ego: EgoState, params: CoreParams) -> bool:
     """Whether we let an oncoming vehicle through the narrowing first (module docstring)."""
     if not narrowing.ours or narrowing.entry_m <= 0.0:
@@ -155,20 +179,34 @@ def must_yield(narrowing: Narrowing, tracks: Sequence[TrackBox], ego: EgoState, 
     return False
 
 
-def _stvo_6(tracks: Sequence[TrackBox], ego: EgoState, params: CoreParams) -> float:
+class AtNarrowing(NamedTuple):
+    """A narrowing rule's answer: the proximity to tighten by toward the waiting line, and whether the car waits
+    in a standoff (what the way-out patience counts, :func:`ecu.core.planar.held_back`)."""
+
+    proximity: float
+    standoff: bool
+
+
+NOT_AT_ONE = AtNarrowing(0.0, False)
+
+
+def _stvo_6(tracks: Sequence[TrackBox], ego: EgoState, params: CoreParams) -> AtNarrowing:
     narrowing = find_narrowing(tracks, ego.speed_mps, params)
-    if narrowing is None or not must_yield(narrowing, tracks, ego, params):
-        return 0.0
+    if narrowing is None or narrowing.entry_m <= 0.0:
+        return NOT_AT_ONE
+    waiting = standoff(narrowing, tracks, ego, params)
+    if not (waiting or must_yield(narrowing, tracks, ego, params)):
+        return NOT_AT_ONE
     stop = stopping_distance_m(ego.speed_mps, ego.accel_mps2, params.hold_time_s, ego.decel_mps2)
-    return proximity_of(narrowing.entry_m - params.narrowing_wait_m - stop, params.region)
+    return AtNarrowing(proximity_of(narrowing.entry_m - params.narrowing_wait_m - stop, params.region), waiting)
 
 
-def _never(tracks: Sequence[TrackBox], ego: EgoState, params: CoreParams) -> float:
-    return 0.0
+def _never(tracks: Sequence[TrackBox], ego: EgoState, params: CoreParams) -> AtNarrowing:
+    return NOT_AT_ONE
 
 
-#: a narrowing rule: (the tracks, the ego, the parameters) -> the proximity to tighten by toward a narrowing
-NarrowingRule = Callable[[Sequence[TrackBox], EgoState, CoreParams], float]
+#: a narrowing rule: (the tracks, the ego, the parameters) -> its answer (:class:`AtNarrowing`)
+NarrowingRule = Callable[[Sequence[TrackBox], EgoState, CoreParams], AtNarrowing]
 #: ``[ecu] way_out`` -> its rule at a narrowing (the keys of :data:`ecu.core.region.crossing.WAY_OUT_RULES`)
 NARROWING_RULES: Mapping[str, NarrowingRule] = MappingProxyType({
     "none": _never,               # the plain method
