@@ -7,7 +7,8 @@ planar tracks in the inputs (``RadarTrack`` slots; none: this module does nothin
    model deceleration D, ``EscDynamics``'s yaw rate and the driver's road-wheel angle
    (``SteeringWheelAngle / steering_ratio``).
 2. **Tracks** (:class:`can_dbc.planar.Track`) become :class:`~ecu.core.region.TrackBox` es with
-   ``track_position_sigma_m``.
+   ``track_position_sigma_m``, but a track wholly behind us (:func:`ahead_or_beside`: only the rear corner
+   radars' ``CornerTrack`` slots report any) is left to its own driver.
 3. **Road**: the contract carries no lanes, so the ECU assumes its own (``lane_width_m``, centred
    on the ego, following its current curvature) and ``free_lanes_left`` / ``free_lanes_right``
    beside it (:func:`assumed_road`); a steering path stays within them and out of any holding a
@@ -41,7 +42,8 @@ from .params import CoreParams
 from .plan import Plan
 from .relevance import nearest_track
 from .region import EgoState, RegionDecision, Road, TrackBox, decide
-from .region.crossing import crossing_proximity
+from .region.crossing import LANE_CHANGE_WAY_OUTS, VEHICLE_CLASSES, crossing_proximity
+from .region.lane_change import lane_change_mask, vehicle_mask
 from .region.decision import driver_disjoint_without
 from .region.paths import current_curvature
 from .types import CoreInputs, RegionReport
@@ -71,6 +73,19 @@ def track_boxes(tracks: Sequence[Track], sigma_m: float) -> list[TrackBox]:
     return [TrackBox(t.x_m, t.y_m, t.vx_mps, t.vy_mps, t.size_class, sigma_m) for t in tracks]
 
 
+def ahead_or_beside(tracks: tuple[Track, ...], params: CoreParams) -> tuple[Track, ...]:
+    """The tracks the region judges: every one whose nearest point is not behind our rear bumper (beyond ``length_m``
+    and the inflation ``sigma_factor * track_position_sigma_m``). What is wholly behind us cannot reach our stopping
+    path unless it follows us, and a follower is its own driver's to avoid (StVO section 4(1): the distance to the
+    vehicle ahead must as a rule let the follower stop behind it when it brakes suddenly): its stopping region
+    covers ours at any usual following distance (at 50 km/h a car's region reaches 24 m ahead of it), so judging it
+    would brake the lead for the car behind it. A forward radar's track is never behind us (x >= 0)."""
+    rear_m = -params.region.length_m - params.region.sigma_factor * params.track_position_sigma_m
+    if all(t.x_m >= rear_m for t in tracks):
+        return tracks
+    return tuple(t for t in tracks if t.x_m >= rear_m)
+
+
 def assumed_road(ego: EgoState, params: CoreParams) -> Road:
     """Our lane centred on the ego and the free lanes beside it, along the current curvature (step 3)."""
     w = params.lane_width_m
@@ -94,7 +109,7 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     """Steps 1-5 of the module docstring; None without planar tracks. ``in_our_path``: the line judges the 1-D
     object (:func:`line_track`); ``impatient``: the way-out rule's car takes its turn (:mod:`ecu.core.way_out`):
     no tightening against crossing vehicles."""
-    tracks = inputs.tracks
+    tracks = ahead_or_beside(inputs.tracks, params)
     if not tracks:
         return None
     ego = ego_state(speed_mps, inputs, plan, decel_mps2, params)
@@ -106,8 +121,18 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
         off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, in_our_path, params))
     crossing = 0.0 if impatient else \
         crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
-                           0.0 if params.way_out == "none" else params.way_out_path_m)
+                           0.0 if params.way_out == "none" else params.way_out_path_m,
+                           lane_change(decision, boxes, ego, params))
     return RegionCycle(ego, decision, off_axis, crossing)
+
+
+def lane_change(decision: RegionDecision, boxes: Sequence[TrackBox], ego: EgoState, params: CoreParams):
+    """The vehicles of the lane our path moves into (:mod:`ecu.core.region.lane_change`), under the way-out rules
+    that give way to them (``LANE_CHANGE_WAY_OUTS``); None under the others."""
+    if params.way_out not in LANE_CHANGE_WAY_OUTS or decision.objects.centre.size == 0:
+        return None
+    return lane_change_mask(decision.objects, vehicle_mask([b.size_class for b in boxes], VEHICLE_CLASSES),
+                            current_curvature(ego, params.region), params.lane_width_m, params.way_out_path_m)
 
 
 def tightened(plan: Plan, proximity: float, params: CoreParams) -> Plan:
