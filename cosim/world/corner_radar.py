@@ -7,11 +7,14 @@ beside the car (``RadarTrack``'s x is 0..250 m), so two cars side by side know n
 until they touch (``crd fleet merge``). This module is the world's model of the two corner sensors.
 
 **Sensors**: two :mod:`cosim.world.radar2d` radars, one at each rear corner of the ego's box
-(``x`` at the rear bumper, ``y = +-width/2``), bore sight ``CORNER_BORESIGHT_DEG`` (135 degrees) off the
+(``x`` at the rear bumper, ``y = +-width/2``), bore sight ``CORNER_BORESIGHT_DEG`` (110 degrees) off the
 ego's heading toward its side, field of view ``CORNER_FIELD_OF_VIEW_DEG`` (150 degrees, so each sees
-from 60 degrees off the heading on its side round to the centre line behind), range
-``CORNER_MAX_RANGE_M`` (80 m). The angles and the range are assumptions in the range of rear
-corner radars (unconfirmed: not taken from a data sheet). Latency, noise, dropouts, period and
+from 35 degrees off the heading on its side round to 5 degrees past the centre line behind), range
+``CORNER_MAX_RANGE_M`` (80 m). The angles and the range are assumptions (unconfirmed: not taken from
+a data sheet), chosen so that the two sensors and the forward radar (+-45 degrees from the bumper)
+leave no gap beside the car: a car in the next lane level with our front half, which the forward radar
+does not see (its near corner 2.6 m to the side and 2 m ahead is 52 degrees off), is 15 to 60 degrees
+off the rear corner's sensor (``crd fleet merge`` with the ramp 2 m behind lost it at 135 degrees). Latency, noise, dropouts, period and
 seed are the ``[radar]`` table's, as for the forward radar (:mod:`cosim.world.radar_tracks`); each
 sensor draws from its own generator (seed ``seed + 1`` and ``seed + 2``).
 
@@ -39,7 +42,7 @@ from .radar2d import Radar2DParams, RadarMount, Track
 from .radar_tracks import TrackFeed
 from .scene import Scene
 
-CORNER_BORESIGHT_DEG = 135.0
+CORNER_BORESIGHT_DEG = 110.0
 CORNER_FIELD_OF_VIEW_DEG = 150.0
 CORNER_MAX_RANGE_M = 80.0
 
