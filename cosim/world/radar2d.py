@@ -14,7 +14,9 @@ Per object, from the scan ``latency_cycles`` old (the latency in whole ECU cycle
 * **position** ``(x, y)``: that nearest point in sensor axes (the radar ranges to the nearest
   reflection; today's ``ObjectRange`` is likewise the gap to the object's rear); **velocity**
   ``(vx, vy)``: the object's velocity over ground minus that of the sensor's mounting point
-  (``v_ego + ω × r``), in sensor axes;
+  (``v_ego + ω × r``), in sensor axes; with ``report_at`` set, the object is still seen from the sensor but
+  reported from that point instead: its box's point nearest it, in its axes, the velocity relative to it (the
+  rear corner radars report in the forward radar's frame, :mod:`cosim.world.corner_radar`);
 * **noise**: zero-mean Gaussian on x, y, vx, vy with the given standard deviations, from a numpy
   generator seeded ``(seed, k_scan)``: four normal numbers per object in order of object id, then one
   uniform number per object, whether it is visible or not (so visibility never shifts the stream);

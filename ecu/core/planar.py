@@ -36,6 +36,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple, Sequence
 
+import numpy as np
+
 from can_dbc.planar import Track
 
 from .intent import driver_accel_mps2
@@ -143,7 +145,8 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     return RegionCycle(ego, decision, off_axis, crossing)
 
 
-def lane_change(decision: RegionDecision, boxes: Sequence[TrackBox], ego: EgoState, params: CoreParams):
+def lane_change(decision: RegionDecision, boxes: Sequence[TrackBox], ego: EgoState,
+                params: CoreParams) -> np.ndarray | None:
     """The vehicles of the lane our path moves into (:mod:`ecu.core.region.lane_change`), under the way-out rules
     that give way to them (``LANE_CHANGE_WAY_OUTS``); None under the others."""
     if params.way_out not in LANE_CHANGE_WAY_OUTS or decision.objects.centre.size == 0:

@@ -20,6 +20,9 @@ A track counts when it is
 * not moving away from our path (``y v_y <= 0``, y its centre's lateral offset: a lead car turning off,
   already beside our axis and leaving it, stays out).
 
+Under ``right_of_way`` a car that changes lanes also gives way to the vehicle in the lane it moves into, which
+goes its way and so is not crossing (:mod:`ecu.core.region.lane_change`, ``LANE_CHANGE_WAY_OUTS``).
+
 The proximity is :func:`~ecu.core.region.decision.proximity_of` of the nominal row's clearance to those
 tracks' regions alone; the strategy's ``tighten`` turns it into the bound (``none`` and ``conservative`` do
 not tighten, so nothing changes for them).
