@@ -46,7 +46,7 @@ from .plan import Plan
 from .relevance import nearest_track
 from .region import EgoState, RegionDecision, Road, TrackBox, decide
 from .region.crossing import LANE_CHANGE_WAY_OUTS, VEHICLE_CLASSES, crossing_proximity
-from .region.lane_change import lane_change_mask, vehicle_mask
+from .region.lane_change import LaneChange, lane_change_mask, vehicle_mask
 from .region.decision import driver_disjoint_without
 from .region.paths import current_curvature
 from .types import CoreInputs, RegionReport
@@ -151,8 +151,10 @@ def lane_change(decision: RegionDecision, boxes: Sequence[TrackBox], ego: EgoSta
     that give way to them (``LANE_CHANGE_WAY_OUTS``); None under the others."""
     if params.way_out not in LANE_CHANGE_WAY_OUTS or decision.objects.centre.size == 0:
         return None
+    ours = LaneChange(current_curvature(ego, params.region), params.region.width_m, params.lane_width_m,
+                      params.way_out_path_m)
     return lane_change_mask(decision.objects, vehicle_mask([b.size_class for b in boxes], VEHICLE_CLASSES),
-                            current_curvature(ego, params.region), params.lane_width_m, params.way_out_path_m)
+                            np.array([b.y_m for b in boxes]), ours)
 
 
 def tightened(plan: Plan, proximity: float, params: CoreParams) -> Plan:

@@ -16,8 +16,8 @@ with it. A track counts when it is
 * a moving vehicle (the crossing rule's classes, :data:`ecu.core.region.crossing.VEHICLE_CLASSES`) going
   our way: its velocity within ``CROSSING_ANGLE_RAD`` of our heading (a vehicle crossing at a larger
   angle is the crossing rule's, :func:`ecu.core.region.crossing.crossing_mask`);
-* beside us or ahead, in a neighbour lane: its centre between half a lane and one and a half lanes
-  (``lane_width_m``) to one side;
+* beside us or ahead, in a neighbour lane: its nearest point beyond our side (``width_m / 2``) and within
+  one and a half lanes (``lane_width_m``) of our axis (a car in the next lane but one, or in ours, stays out);
 * toward our turn: our current curvature ``kappa`` turns toward its side, strongly enough to take our
   path half a lane over within ``way_out_path_m`` (``|kappa| >= lane_width_m / way_out_path_m^2``:
   0.0039 1/m with the defaults; a lane change, not the drift of a car keeping its lane);
@@ -34,7 +34,7 @@ ECU keeps no memory of the manoeuvre), and the contingency alone stays.
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import NamedTuple, Sequence
 
 import numpy as np
 
@@ -44,17 +44,27 @@ from .objects import ObjectSet
 SAME_WAY_ANGLE_RAD = math.radians(30.0)
 
 
-def lane_change_mask(objects: ObjectSet, vehicle: np.ndarray, curvature_1pm: float, lane_width_m: float,
-                     path_m: float) -> np.ndarray:
-    """Which of ``objects`` (``vehicle``: which are vehicles) we move over toward (module docstring)."""
-    none = np.zeros(objects.centre.shape, dtype=bool)
-    if path_m <= 0.0 or abs(curvature_1pm) < lane_width_m / (path_m * path_m):
-        return none
-    side = math.copysign(1.0, curvature_1pm)
-    offset = objects.centre.imag * side
+class LaneChange(NamedTuple):
+    """Our side of a lane change: the current curvature (1/m, left positive), our width, the assumed lane width
+    and the path over which the change must take us half a lane over (``way_out_path_m``), all SI."""
+
+    curvature_1pm: float
+    width_m: float
+    lane_width_m: float
+    path_m: float
+
+
+def lane_change_mask(objects: ObjectSet, vehicle: np.ndarray, lateral_m: np.ndarray, ours: LaneChange) -> np.ndarray:
+    """Which of ``objects`` (``vehicle``: which are vehicles; ``lateral_m``: their tracks' nearest points' y) we
+    move over toward (module docstring)."""
+    kappa, path_m = ours.curvature_1pm, ours.path_m
+    if path_m <= 0.0 or abs(kappa) < ours.lane_width_m / (path_m * path_m):
+        return np.zeros(objects.centre.shape, dtype=bool)
+    side = math.copysign(1.0, kappa)
+    offset = lateral_m * side
     same_way = objects.axis.real >= math.cos(SAME_WAY_ANGLE_RAD)
     against_our_turn = objects.axis.imag * side < 0.0
-    beside = (offset >= 0.5 * lane_width_m) & (offset <= 1.5 * lane_width_m)
+    beside = (offset >= 0.5 * ours.width_m) & (offset <= 1.5 * ours.lane_width_m)
     return objects.moving & vehicle & same_way & against_our_turn & beside
 
 
