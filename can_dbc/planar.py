@@ -5,12 +5,14 @@ receiver (the co-simulation master sends them, the ECU latches them):
 
 * :class:`EscDynamics` <-> ``EscDynamics``: yaw rate (rad/s <-> deg/s), lateral and
   longitudinal acceleration (m/s²);
-* :class:`Track` <-> ``RadarTrack<slot>``: the slot's ``Track<slot>*`` signals;
+* :class:`Track` <-> ``RadarTrack<slot>``: the slot's ``Track<slot>*`` signals, and the rear corner
+  radars' ``CornerTrack<k>`` (slot ``8 + k``): its ``Corner<k>*`` signals;
   ``None`` is an empty slot (``Existence`` 0, ``NO_TRACK``); :func:`existence_class` maps an
   existence probability to the DBC's classes.
 
-The slots are the DBC's ``RadarTrack*`` messages in ID order (:data:`TRACK_SLOTS`);
-the layout and the rule for filling them are in the DBC's comment of ``RadarTrack0``.
+The slots are the DBC's ``RadarTrack*`` messages in ID order (:data:`TRACK_SLOTS`), then its
+``CornerTrack*`` ones (:data:`CORNER_SLOTS`); the layout and the rule for filling them are in the
+DBC's comments of ``RadarTrack0`` and ``CornerTrack0``.
 Values outside a signal's DBC range are clamped into it on the way out (a sensor
 saturates); the receiver refuses out-of-range raw values on the way in.
 """
@@ -25,14 +27,26 @@ from .database import LAYOUTS
 from .units import dbc_per_si
 
 _DEG_PER_RAD = dbc_per_si("deg/s")
-#: ``RadarTrack<slot>`` message name -> slot index, in ID order
-TRACK_SLOTS: Mapping[str, int] = MappingProxyType({
-    name: slot for slot, name in enumerate(sorted(
-        (n for n in LAYOUTS if n.startswith("RadarTrack")), key=lambda n: LAYOUTS[n].frame_id))})
+
+
+def _slots(prefix: str, first: int) -> Mapping[str, int]:
+    """``<prefix><k>`` message name -> slot index (``first + k``), in ID order."""
+    names = sorted((n for n in LAYOUTS if n.startswith(prefix) and not n.endswith("Auth")),
+                   key=lambda n: LAYOUTS[n].frame_id)
+    return MappingProxyType({name: first + k for k, name in enumerate(names)})
+
+
+#: ``RadarTrack<slot>`` message name -> slot index, in ID order: the forward radar's slots 0..7
+TRACK_SLOTS: Mapping[str, int] = _slots("RadarTrack", 0)
+#: ``CornerTrack<k>`` message name -> slot index, after the forward ones (8..11): the rear corner radars' slots,
+#: on the bus only when they are fitted (``[radar] corner``); their PosX is signed (beside and behind the car)
+CORNER_SLOTS: Mapping[str, int] = _slots("CornerTrack", len(TRACK_SLOTS))
 _TRACK_FIELDS = ("Id", "SizeClass", "Existence", "PosX", "PosY", "VelX", "VelY")
-#: per slot: its ``Track<slot>*`` signal names in :data:`_TRACK_FIELDS` order
-_TRACK_SIGNALS = tuple(tuple(f"Track{slot}{field}" for field in _TRACK_FIELDS) for slot in range(len(TRACK_SLOTS)))
-_LIMITS = {(s.name): (s.minimum, s.maximum) for name in ("EscDynamics", *TRACK_SLOTS) for s in LAYOUTS[name].signals}
+#: per slot: its ``Track<slot>*`` (forward) or ``Corner<k>*`` (corner) signal names in :data:`_TRACK_FIELDS` order
+_TRACK_SIGNALS = (tuple(tuple(f"Track{slot}{field}" for field in _TRACK_FIELDS) for slot in range(len(TRACK_SLOTS)))
+                  + tuple(tuple(f"Corner{k}{field}" for field in _TRACK_FIELDS) for k in range(len(CORNER_SLOTS))))
+_LIMITS = {(s.name): (s.minimum, s.maximum) for name in ("EscDynamics", *TRACK_SLOTS, *CORNER_SLOTS)
+           for s in LAYOUTS[name].signals}
 #: upper bounds (exclusive) of the existence classes 1..6 (``BELOW_25_PCT`` .. ``BELOW_99_9_PCT``); 7 is the rest
 EXISTENCE_BOUNDS = (0.25, 0.50, 0.75, 0.90, 0.99, 0.999)
 

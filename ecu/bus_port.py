@@ -22,17 +22,17 @@ import can
 from can_dbc import RX_RATE, RX_SEQUENCE, Frame, Receiver, encode, signal_range
 from can_dbc.contract import FAULT_SIGNALS as DBC_FAULT_SIGNALS
 from can_dbc.contract import enumeration, timeout_s
-from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_dynamics, track
+from can_dbc.planar import CORNER_SLOTS, TRACK_SLOTS, EscDynamics, Track, esc_dynamics, track
 from can_dbc.units import KMH_PER_MPS, PERCENT, dbc_per_si
 
 from .core import CoreInputs, CoreOutputs
 from .core.types import NEVER_S, FaultFlag
-from .equipment import CORE_INPUT_MESSAGES, PLANAR_INPUT_MESSAGES
+from .equipment import CORE_INPUT_MESSAGES, CORNER_INPUT_MESSAGES, PLANAR_INPUT_MESSAGES
 
 #: every message an ECU may receive: the core's, and the planar ones (the stopping region's inputs, ecu.core.planar;
 #: a track or yaw rate that is missing or stale is simply absent: the region is not evaluated). Which of them an
 #: ECU receives is its equipment's (:mod:`ecu.equipment`)
-INPUT_MESSAGES = (*CORE_INPUT_MESSAGES, *PLANAR_INPUT_MESSAGES)
+INPUT_MESSAGES = (*CORE_INPUT_MESSAGES, *PLANAR_INPUT_MESSAGES, *CORNER_INPUT_MESSAGES)
 SIM_CLOCK = "SimClock"
 #: each fault bit's 1-bit ``EcuStatus`` signal, from the DBC (bit k at DBC bit 50 + k)
 FAULT_SIGNALS: dict[FaultFlag, str] = {FaultFlag(bit): name for bit, name in enumerate(DBC_FAULT_SIGNALS)}
@@ -67,7 +67,7 @@ class InputLatch:
         # decoded and converted once per radar report (every 5th cycle), when a slot changed
         self._esc: Mapping[str, float] | None = None
         self.yaw_rate_radps = 0.0
-        self._tracks: list[Mapping[str, float] | None] = [None] * len(TRACK_SLOTS)
+        self._tracks: list[Mapping[str, float] | None] = [None] * len(_SLOTS)
         self._track_tuple: tuple[Track, ...] | None = ()
         self._newest_track_t_s = NEVER_S  # the newest slot frame's receive time (no slot frame: never)
         self.rx_t_s = {name: NEVER_S for name in INPUT_MESSAGES}
@@ -95,7 +95,7 @@ class InputLatch:
         elif name == "EscDynamics":
             self._esc = s
             self.yaw_rate_radps = s["YawRate"] / _DEG_PER_RAD_S
-        elif (slot := TRACK_SLOTS.get(name)) is not None:
+        elif (slot := _SLOTS.get(name)) is not None:
             self._tracks[slot] = s
             self._track_tuple, self._newest_track_t_s = None, t_s
         else:
@@ -110,7 +110,8 @@ class InputLatch:
 
     @property
     def tracks(self) -> list[Track | None]:
-        """The latest track of each ``RadarTrack`` slot (SI), None for an empty slot or before its first frame."""
+        """The latest track of each ``RadarTrack`` slot, then each ``CornerTrack`` slot (SI), None for an empty slot
+        or before its first frame (the corner slots stay None where the corner radars are not fitted)."""
         return [None if s is None else track(s, slot) for slot, s in enumerate(self._tracks)]
 
     def live_tracks(self, t_s: float, timeout_s: float) -> tuple[Track, ...]:
@@ -155,6 +156,8 @@ _DEG_PER_RAD = dbc_per_si("deg")
 _DEG_PER_RAD_S = dbc_per_si("deg/s")
 #: the track slots time out as ObjectTrack does (the DBC's cycle times the E2E tolerance, can_dbc.contract)
 _TRACK_TIMEOUT_S = timeout_s("RadarTrack0")
+#: every track slot, forward and corner: message name -> slot index
+_SLOTS = {**TRACK_SLOTS, **CORNER_SLOTS}
 
 
 def _clamped(value: float, limits: tuple[float, float]) -> float:

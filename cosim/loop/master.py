@@ -75,6 +75,7 @@ from ..world.plant import divides_step, finite_check, open_plant
 from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, PlantSample
 from ..world.radar2d import Track
 from ..world.radar_model import RadarModel
+from ..world.corner_radar import CornerFeed
 from ..world.radar_tracks import TrackFeed, radar_params
 from ..world.scene import Scene
 from ..world.scene_build import build_objects, build_road
@@ -169,14 +170,18 @@ class ClosedLoop:
         self.steering = make_steering(scenario.driver.steering, road, scenario.plant)
         #: planar runs: pose columns, the contact in metrics and events, the 2-D tracks every radar cycle
         self.planar = scenario.planar
-        self.tracks = TrackFeed(self.scene, radar_params(scenario.radar, self.ego_body, scenario.scenario.seed)) \
-            if self.planar else None
+        params = radar_params(scenario.radar, self.ego_body, scenario.scenario.seed)
+        self.tracks = TrackFeed(self.scene, params) if self.planar else None
+        #: the rear corner radars' merged tracks (``[radar] corner``, planar runs; cosim.world.corner_radar)
+        self.corner = CornerFeed(self.scene, params, self.ego_body) if self.planar and scenario.radar.corner else None
 
     # -- one cycle ------------------------------------------------------------
     def _frames_out(self, cycle: int, sample: PlantSample, pedals: Pedals,
-                    tracks: tuple[Track, ...] | None = None, steering_rad: float = 0.0) -> list:
+                    tracks: tuple[Track, ...] | None = None, steering_rad: float = 0.0,
+                    corner: tuple[Track, ...] | None = None) -> list:
         """This cycle's frames to the ECU. ``tracks``: the 2-D radar's tracks on its report cycles (the same
-        cycles as ``ObjectTrack``; None on the others, and in 1-D runs), for the planar contract to encode."""
+        cycles as ``ObjectTrack``; None on the others, and in 1-D runs), for the planar contract to encode;
+        ``corner``: the rear corner radars' on the same cycles (None: not fitted)."""
         top, k = _WHEEL_MAX_KMH, KMH_PER_MPS
         # the four clamps written out, not a list comprehension (1.08 instead of 1.39 µs, timeit)
         w_fl, w_fr, w_rl, w_rr = sample.wheel_speeds_mps
@@ -194,6 +199,8 @@ class ClosedLoop:
             out.append(encode("ObjectTrack", self.radar.measure().signals(), self._next_track()))
             if self._planar_inputs:  # the 2-D radar's tracks
                 out += self._planar.tracks(tracks_2d(tracks))
+                if corner is not None:  # the rear corner radars' tracks: to an ECU with them fitted
+                    out += self._planar.corner_tracks(tracks_2d(corner))
         if self._signer is not None:  # each frame followed by its SecOC authenticator
             sign = self._signer.authenticator
             signed = []
@@ -218,7 +225,8 @@ class ClosedLoop:
         else:
             self.radar.sample(None, 0.0)
         tracks = None if self.tracks is None else self.tracks.step(cycle, t_s, ego)
-        frames = self._frames_out(cycle, sample, pedals, tracks, steering_rad)
+        corner = None if self.corner is None else self.corner.step(cycle, t_s, ego)
+        frames = self._frames_out(cycle, sample, pedals, tracks, steering_rad, corner)
         frames.extend(self.link.send(t_s, cycle, frames))
         return _Outgoing(sample, ego, pedals, steering_rad, gap_m, frames)
 

@@ -1,9 +1,11 @@
-"""The planar frames the co-simulation master sends: ``EscDynamics`` and ``RadarTrack0..7``.
+"""The planar frames the co-simulation master sends: ``EscDynamics``, ``RadarTrack0..7`` and ``CornerTrack0..3``.
 
 * ``EscDynamics`` every ECU cycle (10 ms), from the plant's motion (:class:`can_dbc.planar.EscDynamics`).
 * ``RadarTrack<slot>`` every radar cycle (50 ms), each slot with its own E2E counter: the
   radar's tracks in its report order, slot 0 first, the slots beyond them sent empty, tracks
-  beyond the eighth not sent (the slot rule in the DBC).
+  beyond the eighth not sent (the slot rule in the DBC);
+* ``CornerTrack<k>`` on the same cycles where the rear corner radars are fitted (``[radar] corner``): their
+  merged tracks (:mod:`cosim.world.corner_radar`) by the same rule, four slots.
 
 Both are sent only to an ECU equipped with the planar sensors (a planar scene, :mod:`ecu.equipment`):
 a 1-D run's bus carries neither.
@@ -12,13 +14,13 @@ a 1-D run's bus carries neither.
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import can
 
 from can_dbc import ECU_CYCLE_S, LAYOUTS, CounterSequence, FrameError, check_alone, encode, signal_layout
 from can_dbc.contract import enumeration
-from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_signals, track_signals
+from can_dbc.planar import CORNER_SLOTS, TRACK_SLOTS, EscDynamics, Track, esc_signals, track_signals
 
 from ..world.radar2d import Track as Radar2DTrack
 
@@ -50,7 +52,7 @@ class PlanarFrames:
 
     def __init__(self) -> None:
         self._next_esc = CounterSequence().next
-        self._next_slot = tuple(CounterSequence().next for _ in TRACK_SLOTS)
+        self._next_slot = tuple(CounterSequence().next for _ in (*TRACK_SLOTS, *CORNER_SLOTS))
         self._wheel_deg = 0.0  # the steering-wheel angle last sent (deg), for its rate
 
     def steering_wheel(self, steering_rad: float) -> dict[str, float]:
@@ -72,8 +74,16 @@ class PlanarFrames:
 
     def tracks(self, tracks: Sequence[Track]) -> list[can.Message]:
         """The eight ``RadarTrack`` slots of this radar cycle: ``tracks`` in order, then empty slots."""
-        return [encode(name, track_signals(tracks[slot] if slot < len(tracks) else None, slot),
-                       self._next_slot[slot]()) for name, slot in TRACK_SLOTS.items()]
+        return self._slots(tracks, TRACK_SLOTS)
+
+    def corner_tracks(self, tracks: Sequence[Track]) -> list[can.Message]:
+        """The four ``CornerTrack`` slots of this radar cycle: ``tracks`` in order, then empty slots."""
+        return self._slots(tracks, CORNER_SLOTS)
+
+    def _slots(self, tracks: Sequence[Track], slots: Mapping[str, int]) -> list[can.Message]:
+        first = min(slots.values())
+        return [encode(name, track_signals(tracks[slot - first] if slot - first < len(tracks) else None, slot),
+                       self._next_slot[slot]()) for name, slot in slots.items()]
 
 
 _REGION_ID = LAYOUTS["EcuRegionStatus"].frame_id

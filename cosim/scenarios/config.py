@@ -285,6 +285,10 @@ class RadarConfig:
         90.0, unit="deg", allowed=Range(1.0, 180.0),
         doc="full horizontal field of view; an object whose nearest rear corner is outside ±fov/2 of the "
             "bore sight is not seen (default ±45°: the near-range beam of a mid-range automotive radar)")
+    corner: bool = setting(
+        False, doc="planar scenes: the rear corner radars are fitted too (blind-spot and lane-change sensors, "
+                   "cosim.world.corner_radar): cars beside and behind, sent as CornerTrack0..3 with this table's "
+                   "latency, noise and dropouts; false: those frames are not on the bus")
 
 
 @dataclass(frozen=True)
@@ -364,8 +368,10 @@ class Scenario:
     def equipment(self) -> str:
         """The ECU's equipment in this scene (:mod:`ecu.equipment`): ``longitudinal`` in the 1-D world;
         ``planar`` (the ESC and the 2-D radar) in the plane, ``planar_steering`` when its plant also takes the
-        ECU's ``steer_request``. It decides which frames the run's bus carries (``EcuConfig.equipment``)."""
-        return equipment_for(self.planar, any(m.role == "steer_request" for m in self.plant.inputs)).name
+        ECU's ``steer_request``, each with ``_corner`` when ``[radar] corner`` fits the rear corner radars. It
+        decides which frames the run's bus carries (``EcuConfig.equipment``)."""
+        return equipment_for(self.planar, any(m.role == "steer_request" for m in self.plant.inputs),
+                             self.radar.corner).name
 
     def scene_objects(self) -> tuple[ObjectConfig, ...]:
         """Every enabled object: ``[[objects]]`` if given, else the single ``[object]``."""

@@ -14,7 +14,9 @@ Per object, from the scan ``latency_cycles`` old (the latency in whole ECU cycle
 * **position** ``(x, y)``: that nearest point in sensor axes (the radar ranges to the nearest
   reflection; today's ``ObjectRange`` is likewise the gap to the object's rear); **velocity**
   ``(vx, vy)``: the object's velocity over ground minus that of the sensor's mounting point
-  (``v_ego + ω × r``), in sensor axes;
+  (``v_ego + ω × r``), in sensor axes; with ``report_at`` set, the object is still seen from the sensor but
+  reported from that point instead: its box's point nearest it, in its axes, the velocity relative to it (the
+  rear corner radars report in the forward radar's frame, :mod:`cosim.world.corner_radar`);
 * **noise**: zero-mean Gaussian on x, y, vx, vy with the given standard deviations, from a numpy
   generator seeded ``(seed, k_scan)``: four normal numbers per object in order of object id, then one
   uniform number per object, whether it is visible or not (so visibility never shifts the stream);
@@ -71,6 +73,9 @@ class Radar2DParams:
     dropout_probability: float = 0.0
     existence_gain: float = 0.5
     seed: int = 0
+    #: where the tracks are reported from: position nearest to this point, in its axes, velocity relative to it
+    #: (None: the sensor's mount; the corner radars report in the forward radar's frame, cosim.world.corner_radar)
+    report_at: RadarMount | None = None
 
     def __post_init__(self) -> None:
         checks = {"field_of_view_deg": 0.0 < self.field_of_view_deg <= 360.0, "max_range_m": self.max_range_m > 0.0,
@@ -176,18 +181,22 @@ def _in_view(box: Box, sx: float, sy: float, heading: float, half_fov: float) ->
 
 
 def _measure(scan: Scan, params: Radar2DParams) -> dict[int, tuple[Track, bool]]:
-    """Every visible object's noisy track (existence still 0) and whether its report drops out."""
-    sx, sy, heading, svx, svy = _sensor_pose(scan.ego, params.mount)
-    c, s = math.cos(heading), math.sin(heading)
+    """Every visible object's noisy track (existence still 0) and whether its report drops out: seen from the
+    sensor, reported from ``params.report_at`` (the sensor itself when None)."""
+    sx, sy, heading, _, _ = _sensor_pose(scan.ego, params.mount)
+    rx, ry, report_heading, svx, svy = _sensor_pose(scan.ego, params.report_at or params.mount)
+    c, s = math.cos(report_heading), math.sin(report_heading)
     objects = sorted(scan.objects, key=lambda o: o.id)
     noise, drops = _draws(params, scan.k, len(objects))
     half_fov = math.radians(params.field_of_view_deg) / 2.0
     seen: dict[int, tuple[Track, bool]] = {}
     for obj, n, draw in zip(objects, noise, drops):
         px, py = _nearest_point(obj.box, sx, sy)
-        dx, dy = px - sx, py - sy
-        if math.hypot(dx, dy) > params.max_range_m or not _in_view(obj.box, sx, sy, heading, half_fov):
+        if math.hypot(px - sx, py - sy) > params.max_range_m or not _in_view(obj.box, sx, sy, heading, half_fov):
             continue
+        if params.report_at is not None:
+            px, py = _nearest_point(obj.box, rx, ry)
+        dx, dy = px - rx, py - ry
         vx, vy = obj.motion.vx_mps - svx, obj.motion.vy_mps - svy
         track = Track(obj.id, c * dx + s * dy + n[0], -s * dx + c * dy + n[1], c * vx + s * vy + n[2],
                       -s * vx + c * vy + n[3], 0.0, obj.size_class if obj.size_class in SIZE_CLASSES else "unknown")

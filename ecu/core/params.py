@@ -246,7 +246,8 @@ class CoreParams:
         "none", allowed=("none", "right_of_way", "reciprocal"),
         doc="the way out of a crossing's deadlock (ecu.core.region.crossing.WAY_OUT_RULES): which crossing vehicles "
             "tightening bounds the throttle against; none: every one (the plain method); right_of_way: only those "
-            "from the right (Vienna Convention 1968, art. 18(4)(a)); reciprocal: only those ORCA's split of "
+            "from the right (Vienna Convention 1968, art. 18(4)(a)), and, when our path turns into the next lane, "
+            "the vehicle in it (art. 14(1), ecu.core.region.lane_change); reciprocal: only those ORCA's split of "
             "responsibility gives us to slow for (ecu.core.region.reciprocal); the contingency holds against all")
     way_out_patience_s: float = setting(
         1.5, unit="s", allowed=Range(0.0, 600.0),

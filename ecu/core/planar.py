@@ -7,7 +7,8 @@ planar tracks in the inputs (``RadarTrack`` slots; none: this module does nothin
    model deceleration D, ``EscDynamics``'s yaw rate and the driver's road-wheel angle
    (``SteeringWheelAngle / steering_ratio``).
 2. **Tracks** (:class:`can_dbc.planar.Track`) become :class:`~ecu.core.region.TrackBox` es with
-   ``track_position_sigma_m``.
+   ``track_position_sigma_m``, but a track behind us, or beside us and not closing (:func:`ahead_or_beside`:
+   only the rear corner radars' ``CornerTrack`` slots report any), is left to its own driver.
 3. **Road**: the contract carries no lanes, so the ECU assumes its own (``lane_width_m``, centred
    on the ego, following its current curvature) and ``free_lanes_left`` / ``free_lanes_right``
    beside it (:func:`assumed_road`); a steering path stays within them and out of any holding a
@@ -32,7 +33,10 @@ in the next lane would otherwise bound the throttle).
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple, Sequence
+
+import numpy as np
 
 from can_dbc.planar import Track
 
@@ -41,7 +45,8 @@ from .params import CoreParams
 from .plan import Plan
 from .relevance import nearest_track
 from .region import EgoState, RegionDecision, Road, TrackBox, decide
-from .region.crossing import VEHICLE_CLASSES, crossing_proximity
+from .region.crossing import LANE_CHANGE_WAY_OUTS, VEHICLE_CLASSES, crossing_proximity
+from .region.lane_change import LaneChange, lane_change_mask, vehicle_mask
 from .region.decision import driver_disjoint_without
 from .region.narrowing import NARROWING_RULES
 from .region.paths import current_curvature
@@ -73,6 +78,35 @@ def ego_state(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: floa
 def track_boxes(tracks: Sequence[Track], sigma_m: float) -> list[TrackBox]:
     """The contract's tracks as the region's boxes (nearest point, relative velocity, class, sigma)."""
     return [TrackBox(t.x_m, t.y_m, t.vx_mps, t.vy_mps, t.size_class, sigma_m) for t in tracks]
+
+
+def ahead_or_beside(tracks: tuple[Track, ...], speed_mps: float, params: CoreParams) -> tuple[Track, ...]:
+    """The tracks the region judges: all but those whose nearest point is behind our front bumper by more than the
+    inflation ``sigma_factor * track_position_sigma_m`` (only the rear corner radars' ``CornerTrack`` slots report
+    such; a forward track is ahead, x >= 0 but for its noise) and that are
+
+    * a **follower**: moving, and behind our rear bumper (beyond ``length_m`` and the inflation). It cannot reach
+      our stopping path unless it follows us, and a follower is its own driver's to avoid (StVO section 4(1): the
+      distance to the vehicle ahead must as a rule let the follower stop behind it when it brakes suddenly): its
+      stopping region covers ours at any usual following distance (at 50 km/h a car's region reaches 24 m ahead
+      of it), so judging it would brake the lead for the car behind it;
+    * **beside** us (its nearest point beyond our side, ``|y| >= width_m / 2``) and not closing on our side
+      (``y v_y >= 0``, standing included): our stopping path runs forward, away from it, while its inflated box
+      may touch our footprint and hold us at a stop (two cars stopped side by side would both wait for ever).
+
+    A track on us (x < 0 within our width) stays: it is a contact, not a car beside us."""
+    region = params.region
+    sigma_m = region.sigma_factor * params.track_position_sigma_m
+    if all(t.x_m >= -sigma_m for t in tracks):
+        return tracks
+    rear_m, side_m = -region.length_m - sigma_m, 0.5 * region.width_m
+
+    def left_out(t: Track) -> bool:
+        moving = math.hypot(t.vx_mps + speed_mps, t.vy_mps) > region.moving_object_speed_mps
+        beside = abs(t.y_m) >= side_m and not (moving and t.y_m * t.vy_mps < 0.0)
+        return t.x_m < -sigma_m and ((moving and t.x_m < rear_m) or beside)
+
+    return tuple(t for t in tracks if not left_out(t))
 
 
 def assumed_road(ego: EgoState, params: CoreParams) -> Road:
@@ -109,7 +143,7 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     """Steps 1-5 of the module docstring; None without planar tracks. ``in_our_path``: the line judges the 1-D
     object (:func:`line_track`); ``impatient``: the way-out rule's car takes its turn (:mod:`ecu.core.way_out`):
     no tightening against crossing vehicles nor at a narrowing."""
-    tracks = inputs.tracks
+    tracks = ahead_or_beside(inputs.tracks, speed_mps, params)
     if not tracks:
         return None
     ego = ego_state(speed_mps, inputs, plan, decel_mps2, params)
@@ -122,7 +156,8 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     narrowing = NARROWING_RULES[params.way_out](boxes, ego, params)
     crossing = 0.0 if impatient else max(
         crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
-                           0.0 if params.way_out == "none" else params.way_out_path_m), narrowing.proximity)
+                           0.0 if params.way_out == "none" else params.way_out_path_m,
+                           lane_change(decision, boxes, ego, params)), narrowing.proximity)
     return RegionCycle(ego, decision, off_axis, crossing, narrowing.standoff)
 
 
@@ -130,6 +165,18 @@ def held_back(region: RegionCycle | None) -> bool:
     """What the way-out patience counts (:mod:`ecu.core.way_out`): something near the nominal path (the region's
     proximity), or a standoff at a narrowing (waiting 20 m before it, nothing need be near)."""
     return region is not None and (region.decision.proximity > 0.0 or region.standoff)
+
+
+def lane_change(decision: RegionDecision, boxes: Sequence[TrackBox], ego: EgoState,
+                params: CoreParams) -> np.ndarray | None:
+    """The vehicles of the lane our path moves into (:mod:`ecu.core.region.lane_change`), under the way-out rules
+    that give way to them (``LANE_CHANGE_WAY_OUTS``); None under the others."""
+    if params.way_out not in LANE_CHANGE_WAY_OUTS or decision.objects.centre.size == 0:
+        return None
+    ours = LaneChange(current_curvature(ego, params.region), params.region.width_m, params.lane_width_m,
+                      params.way_out_path_m)
+    return lane_change_mask(decision.objects, vehicle_mask([b.size_class for b in boxes], VEHICLE_CLASSES),
+                            np.array([b.y_m for b in boxes]), ours)
 
 
 def tightened(plan: Plan, proximity: float, params: CoreParams) -> Plan:

@@ -16,6 +16,7 @@ EXPECTED = {
     "SteeringOverride": (0x094, "ECU", 10),
     "EscDynamics": (0x0A8, "ESC", 10),
     **{f"RadarTrack{k}": (0x0C2 + 2 * k, "RADAR", 50) for k in range(8)},
+    **{f"CornerTrack{k}": (0x0D2 + 2 * k, "RADAR", 50) for k in range(4)},
 }
 
 

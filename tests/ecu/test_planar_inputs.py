@@ -13,7 +13,7 @@ import can
 import pytest
 
 from can_dbc import LAYOUTS, LAYOUTS_BY_ID, CounterSequence, Receiver, SecOcSender, SecOcVerifier, encode
-from can_dbc.planar import TRACK_SLOTS, EscDynamics, Track, esc_signals, track_signals
+from can_dbc.planar import CORNER_SLOTS, TRACK_SLOTS, EscDynamics, Track, esc_signals, track_signals
 from ecu import EcuConfig, EcuNode
 
 KEY = bytes(range(16))
@@ -88,5 +88,5 @@ def test_the_frames_follow_the_equipment(equipment, sensors):
     else:  # the core's frames taken; every ESC and slot frame (and its authenticator) unknown, nothing latched
         assert stats["good"] == 20 * 2 + 4 == stats["authenticated"]
         assert stats["UnknownFrame"] == 2 * (20 + 4 * 8)
-        assert latch.esc is None and latch.tracks == [None] * 8
+        assert latch.esc is None and latch.tracks == [None] * (len(TRACK_SLOTS) + len(CORNER_SLOTS))
     assert latch.steering_wheel_rad == pytest.approx(math.radians(-45.0))

@@ -97,7 +97,7 @@ def test_the_dance_is_visible_and_tightening_keeps_it_from_colliding():
         assert car.decelerations >= 3 and min(car.recoveries_mps) >= 0.5
 
 
-@pytest.mark.parametrize("scene", ["crossing", "crossing_reacting", "four_way", "narrow_passage"])
+@pytest.mark.parametrize("scene", ["crossing", "crossing_reacting", "four_way", "merge", "narrow_passage"])
 def test_right_of_way_clears_within_10_s_of_the_first_contingency(scene):
     _, dance = run_fleet(load_fleet(find_scene(scene), way_out="right_of_way"), None)
     assert dance.collisions == 0
@@ -121,6 +121,20 @@ def test_the_exact_tie_at_a_narrowing_is_parted_by_the_patience_unless_the_draws
     _, tied = run_fleet(load_fleet(find_scene("narrow_passage_tie"), way_out="right_of_way"), None)
     assert tied.collisions == 0
     assert tied.all_cleared_s is None
+
+
+def test_the_merge_needs_the_corner_radars_and_the_ramp_car_merges_behind(tmp_path):
+    """Without the rear corner radars neither car sees the other beside it until they touch; with them both
+    clear, the car whose lane ends (ramp) after the one in the through lane (main)."""
+    text = find_scene("merge").read_text()
+    assert "corner = true" in text
+    blind = tmp_path / "merge.toml"
+    blind.write_text(text.replace("corner = true", "corner = false"))
+    _, unseen = run_fleet(load_fleet(blind, way_out="right_of_way"), None)
+    assert unseen.collisions > 0
+    _, seen = run_fleet(load_fleet(find_scene("merge"), way_out="right_of_way"), None)
+    cleared = {car.name: car.cleared_at_s for car in seen.vehicles}
+    assert seen.collisions == 0 and cleared["main"] < cleared["ramp"]
 
 
 def test_a_failing_plant_stops_the_scene_naming_the_vehicle_and_keeps_every_record(monkeypatch):

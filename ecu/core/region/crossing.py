@@ -20,6 +20,9 @@ A track counts when it is
 * not moving away from our path (``y v_y <= 0``, y its centre's lateral offset: a lead car turning off,
   already beside our axis and leaving it, stays out).
 
+Under ``right_of_way`` a car that changes lanes also gives way to the vehicle in the lane it moves into, which
+goes its way and so is not crossing (:mod:`ecu.core.region.lane_change`, ``LANE_CHANGE_WAY_OUTS``).
+
 The proximity is :func:`~ecu.core.region.decision.proximity_of` of the nominal row's clearance to those
 tracks' regions alone; the strategy's ``tighten`` turns it into the bound (``none`` and ``conservative`` do
 not tighten, so nothing changes for them).
@@ -82,19 +85,25 @@ WAY_OUT_RULES: Mapping[str, WayOutRule] = MappingProxyType({
     "right_of_way": _from_the_right,   # give way to the right (Vienna Convention 1968, art. 18(4)(a))
     "reciprocal": _reciprocal,         # ORCA's split: only where our half is to slow (ecu.core.region.reciprocal)
 })
+#: the way-out rules under which a car that changes lanes also gives way to the vehicle in the lane it moves
+#: into (Vienna Convention 1968, art. 14(1); ecu.core.region.lane_change): none keeps the plain method
+LANE_CHANGE_WAY_OUTS = frozenset({"right_of_way"})
 
 
 def crossing_proximity(decision: RegionDecision, tracks: Sequence[TrackBox], speed_mps: float, params: RegionParams,
-                       way_out: str = "none", path_ahead_m: float = 0.0) -> float:
+                       way_out: str = "none", path_ahead_m: float = 0.0, also: np.ndarray | None = None) -> float:
     """The nominal row's proximity to the crossing vehicles' regions that ``way_out`` keeps (module
-    docstring), each region extended ``path_ahead_m`` further along its velocity (a way-out rule yields to
-    the other car's way, not only to where it could stop); 0 without any. ``tracks``: the boxes' tracks, in
-    their order; ``speed_mps``: ours."""
+    docstring), and to those of ``also`` (a mask over the objects: the vehicles of the lane we move into,
+    :mod:`ecu.core.region.lane_change`), each region extended ``path_ahead_m`` further along its velocity (a
+    way-out rule yields to the other car's way, not only to where it could stop); 0 without any. ``tracks``:
+    the boxes' tracks, in their order; ``speed_mps``: ours."""
     objects = decision.objects
     if objects.centre.size == 0:
         return 0.0
     mask = crossing_mask(objects, [t.size_class for t in tracks]) & \
         WAY_OUT_RULES[way_out](objects, tracks, speed_mps, params)
+    if also is not None:
+        mask = mask | also
     if not mask.any():
         return 0.0
     subset = ObjectSet(*(field[mask] for field in objects))

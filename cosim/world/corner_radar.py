@@ -1,0 +1,80 @@
+"""The rear corner radars (``[radar] corner = true``): cars beside and behind the ego, as ``CornerTrack0..3``.
+
+Production cars carry a radar in each rear corner for blind-spot monitoring and lane-change assist
+(ISO 17387, *Lane change decision aid systems (LCDAS)*, specifies the zones beside and behind the car
+such a system covers; its figures are not quoted here, none is used). The forward radar sees nothing
+beside the car (``RadarTrack``'s x is 0..250 m), so two cars side by side know nothing of each other
+until they touch (``crd fleet merge``). This module is the world's model of the two corner sensors.
+
+**Sensors**: two :mod:`cosim.world.radar2d` radars, one at each rear corner of the ego's box
+(``x`` at the rear bumper, ``y = +-width/2``), bore sight ``CORNER_BORESIGHT_DEG`` (110 degrees) off the
+ego's heading toward its side, field of view ``CORNER_FIELD_OF_VIEW_DEG`` (150 degrees, so each sees
+from 35 degrees off the heading on its side round to 5 degrees past the centre line behind), range
+``CORNER_MAX_RANGE_M`` (80 m). The angles and the range are assumptions (unconfirmed: not taken from
+a data sheet), chosen so that the two sensors and the forward radar (+-45 degrees from the bumper)
+leave no gap beside the car: a car in the next lane level with our front half, which the forward radar
+does not see (its near corner 2.6 m to the side and 2 m ahead is 52 degrees off), is 15 to 60 degrees
+off the rear corner's sensor (``crd fleet merge`` with the ramp 2 m behind lost it at 135 degrees). Latency, noise, dropouts, period and
+seed are the ``[radar]`` table's, as for the forward radar (:mod:`cosim.world.radar_tracks`); each
+sensor draws from its own generator (seed ``seed + 1`` and ``seed + 2``).
+
+**Which point**: every track is reported in the forward radar's frame (x from the front bumper's
+centre, forward; y left) at the point of the object's box nearest that origin, with the velocity
+relative to it: the point from which the ECU places a box (:mod:`ecu.core.region.objects`), so a car
+beside the ego (x < 0) is placed as a car ahead is.
+
+**Which tracks** (the slot rule of ``CornerTrack0``'s DBC comment): every object either sensor sees,
+once (seen by both: the report of the sensor with the higher existence, then the lower id of the
+sensor, left first), most urgent first in the forward radar's order (ascending time to collision,
+range, id), at most ``len(CORNER_SLOTS)`` (4). An object both the forward and a corner radar see
+appears in both lists: the ECU's region is a union of objects, so a duplicate changes nothing.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from can_dbc.planar import CORNER_SLOTS
+
+from .ego import Ego, EgoBody
+from .radar2d import Radar2DParams, RadarMount, Track
+from .radar_tracks import TrackFeed
+from .scene import Scene
+
+CORNER_BORESIGHT_DEG = 110.0
+CORNER_FIELD_OF_VIEW_DEG = 150.0
+CORNER_MAX_RANGE_M = 80.0
+
+
+def corner_params(forward: Radar2DParams, ego: EgoBody) -> tuple[Radar2DParams, Radar2DParams]:
+    """The left and right corner sensors' parameters, from the forward radar's (``[radar]``; module docstring)."""
+    rear_x_m, half_w = ego.front_m - ego.length_m, ego.half_width_m
+    origin = RadarMount(x_m=ego.front_m)
+    return tuple(replace(forward, mount=RadarMount(rear_x_m, side * half_w, side * math.radians(CORNER_BORESIGHT_DEG)),
+                         field_of_view_deg=CORNER_FIELD_OF_VIEW_DEG, max_range_m=CORNER_MAX_RANGE_M,
+                         max_tracks=len(CORNER_SLOTS), seed=forward.seed + k, report_at=origin)
+                 for k, side in ((1, 1.0), (2, -1.0)))
+
+
+def merged(left: tuple[Track, ...], right: tuple[Track, ...], slots: int) -> tuple[Track, ...]:
+    """One list of the two sensors' tracks (module docstring: which tracks)."""
+    best: dict[int, Track] = {}
+    for track in (*left, *right):
+        if track.id not in best or track.existence > best[track.id].existence:
+            best[track.id] = track
+    return tuple(sorted(best.values(), key=lambda t: (t.ttc_s, t.range_m, t.id))[:slots])
+
+
+class CornerFeed:
+    """Both corner sensors on the scene; the merged tracks on report cycles (None on the others)."""
+
+    def __init__(self, scene: Scene, forward: Radar2DParams, ego: EgoBody) -> None:
+        self.sensors = tuple(TrackFeed(scene, params) for params in corner_params(forward, ego))
+
+    def step(self, cycle: int, t_s: float, ego: Ego) -> tuple[Track, ...] | None:
+        """The merged tracks of this cycle (call it on every ECU cycle, as :meth:`TrackFeed.step`)."""
+        left, right = (sensor.step(cycle, t_s, ego) for sensor in self.sensors)
+        if left is None or right is None:
+            return None
+        return merged(left, right, len(CORNER_SLOTS))
