@@ -3,16 +3,15 @@ the car), E2E-protected like every input, carried by the ARXML/KCD/SYM exports a
 
 from __future__ import annotations
 
-import cantools
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from can_dbc import DATABASE, FrameError, check_alone, encode
 from can_dbc.bus_load import bus_load
-from can_dbc.export import export
 from can_dbc.planar import CORNER_SLOTS, TRACK_SLOTS, Track, track, track_signals
 from cosim.cli.main import main
+from tests.dbc.exported import assert_exported
 from tests.dbc.test_decode_formats import write_log
 
 BESIDE = Track(5, 4, 7, -2.5, 2.625, 0.2, -0.5)
@@ -57,15 +56,7 @@ def test_a_forged_or_corrupted_corner_frame_fails_its_e2e_check():
 
 @pytest.mark.parametrize("fmt", ["arxml", "kcd", "sym"])
 def test_exports_carry_the_corner_messages(fmt, tmp_path):
-    other = cantools.database.load_file(str(export(fmt, tmp_path / f"c.{fmt}")))
-    for name in CORNER_SLOTS:
-        ours, theirs = DATABASE.get_message_by_name(name), other.get_message_by_name(name)
-        assert theirs.frame_id == ours.frame_id
-        assert [(s.name, s.start, s.length, s.scale, s.is_signed) for s in theirs.signals] == \
-               [(s.name, s.start, s.length, s.scale, s.is_signed) for s in ours.signals]
-    msg = encode("CornerTrack2", track_signals(BESIDE, 10), 7)
-    assert other.decode_message(msg.arbitration_id, msg.data) == DATABASE.decode_message(msg.arbitration_id,
-                                                                                          msg.data)
+    assert_exported(fmt, tmp_path, CORNER_SLOTS, encode("CornerTrack2", track_signals(BESIDE, 10), 7))
 
 
 def test_a_blf_of_the_corner_frames_decodes(tmp_path, capsys):

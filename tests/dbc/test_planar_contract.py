@@ -6,18 +6,17 @@ from __future__ import annotations
 import math
 import re
 
-import cantools
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from can_dbc import DATABASE, DBC_PATH, check_alone, encode
+from can_dbc import DBC_PATH, check_alone, encode
 from can_dbc.bus_load import bus_load, frame_bits
-from can_dbc.export import export
 from can_dbc.contract import enumeration
 from can_dbc.planar import (TRACK_SLOTS, EscDynamics, Track, esc_dynamics, esc_signals, existence_class, track,
                              track_signals)
 from cosim.cli.main import main
+from tests.dbc.exported import assert_exported
 from tests.dbc.test_decode_formats import write_log
 
 PLANAR = ("SteeringOverride", "EscDynamics", *TRACK_SLOTS)
@@ -58,15 +57,7 @@ def test_the_stated_increments_add_up():
 
 @pytest.mark.parametrize("fmt", ["arxml", "kcd", "sym"])
 def test_exports_carry_the_planar_messages(fmt, tmp_path):
-    other = cantools.database.load_file(str(export(fmt, tmp_path / f"c.{fmt}")))
-    for name in PLANAR:
-        ours, theirs = DATABASE.get_message_by_name(name), other.get_message_by_name(name)
-        assert theirs.frame_id == ours.frame_id
-        assert [(s.name, s.start, s.length, s.scale, s.is_signed) for s in theirs.signals] == \
-               [(s.name, s.start, s.length, s.scale, s.is_signed) for s in ours.signals]
-    msg = encode("RadarTrack5", track_signals(Track(3, 4, 6, 40.0, 2.5, -10.0, 0.5), 5), 7)
-    assert other.decode_message(msg.arbitration_id, msg.data) == DATABASE.decode_message(msg.arbitration_id,
-                                                                                          msg.data)
+    assert_exported(fmt, tmp_path, PLANAR, encode("RadarTrack5", track_signals(Track(3, 4, 6, 40.0, 2.5, -10.0, 0.5), 5), 7))
 
 
 def test_a_blf_of_the_planar_frames_decodes(tmp_path, capsys):
