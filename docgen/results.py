@@ -45,11 +45,13 @@ def _one(args: tuple[str, ...]) -> str:
 
 
 def sweep_rates(args: tuple[str, ...], runs: Runs) -> str:
-    """The "Rates per strategy" table of the sweep's ``report.md``."""
+    """The "Rates per strategy" table of the sweep's ``report.md``, with its subject's columns (a fleet sweep's
+    deadlock and clearing too)."""
     from cosim.sweep.report import rates_table
+    from cosim.sweep.subjects import subject_of
 
-    rows, _ = runs.sweep(_one(args))
-    return "\n".join(rates_table(rows))
+    rows, meta = runs.sweep(_one(args))
+    return "\n".join(rates_table(rows, subject_of(meta.get("subject", "scenario"))))
 
 
 def sweep_outcomes(args: tuple[str, ...], runs: Runs) -> str:
