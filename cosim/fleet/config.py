@@ -130,6 +130,8 @@ def _vehicle(i: int, table: Any, base: Mapping[str, Any], section: FleetSection,
     ecu = data.setdefault("ecu", {})
     if isinstance(ecu, dict) and ecu.get("way_out", "none") != "none" and "way_out_patience_s" not in ecu:
         ecu["way_out_patience_s"] = patience_s(section.seed + i)
+    if isinstance(ecu, dict) and ecu.get("way_out", "none") != "none" and "way_out_seed" not in ecu:
+        ecu["way_out_seed"] = section.seed + i
     try:
         scenario = scenario_from_dict(data, base_dir)
     except SettingError as exc:

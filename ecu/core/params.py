@@ -252,6 +252,10 @@ class CoreParams:
     way_out_patience_s: float = setting(
         1.5, unit="s", allowed=Range(0.0, 600.0),
         doc="right_of_way: slow this long with something near, the car takes its turn (ecu.core.way_out)")
+    way_out_seed: int = setting(
+        0, allowed=Range(0, 2**31 - 1),
+        doc="right_of_way: seeds the draws of a car's wait after it gives back a turn it took with another car at a "
+            "narrowing (ecu.core.way_out, backing off); a fleet gives each car its own seed")
     way_out_slow_speed_mps: float = setting(3.0, unit="m/s", allowed=Range(0.0, 20.0),
                                             doc="right_of_way: below this speed a car counts as waiting (above "
                                                 "the crossing dance's recoveries, at most 2.5 m/s in crd fleet "

@@ -48,7 +48,7 @@ from .region import EgoState, RegionDecision, Road, TrackBox, decide
 from .region.crossing import LANE_CHANGE_WAY_OUTS, VEHICLE_CLASSES, crossing_proximity
 from .region.lane_change import LaneChange, lane_change_mask, vehicle_mask
 from .region.decision import driver_disjoint_without
-from .region.narrowing import NARROWING_RULES
+from .region.narrowing import NARROWING_RULES, Turn
 from .region.paths import current_curvature
 from .types import CoreInputs, RegionReport
 
@@ -65,6 +65,10 @@ class RegionCycle(NamedTuple):
     crossing_proximity: float
     #: waiting in a standoff at a narrowing (:func:`ecu.core.region.narrowing.standoff`)
     standoff: bool = False
+    #: taking (or having given back) its turn, it meets a vehicle on the move toward the narrowing
+    contested: bool = False
+    #: a narrowing lies ahead (:func:`ecu.core.region.narrowing.find_narrowing`)
+    at_narrowing: bool = False
 
 
 def ego_state(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams) -> EgoState:
@@ -139,10 +143,10 @@ def oncoming(track: Track, speed_mps: float, params: CoreParams) -> bool:
 
 
 def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: float, params: CoreParams,
-                 in_our_path: bool, impatient: bool = False) -> RegionCycle | None:
+                 in_our_path: bool, turn: Turn = Turn.NONE) -> RegionCycle | None:
     """Steps 1-5 of the module docstring; None without planar tracks. ``in_our_path``: the line judges the 1-D
-    object (:func:`line_track`); ``impatient``: the way-out rule's car takes its turn (:mod:`ecu.core.way_out`):
-    no tightening against crossing vehicles nor at a narrowing."""
+    object (:func:`line_track`); ``turn``: where the car stands in the way-out patience (:mod:`ecu.core.way_out`):
+    taking its turn, no tightening against crossing vehicles nor for a standoff at a narrowing."""
     tracks = ahead_or_beside(inputs.tracks, speed_mps, params)
     if not tracks:
         return None
@@ -153,12 +157,12 @@ def region_cycle(speed_mps: float, inputs: CoreInputs, plan: Plan, decel_mps2: f
     off_axis = True
     if not decision.driver_disjoint and plan.disjoint:
         off_axis = driver_disjoint_without(decision, line_track(tracks, inputs, in_our_path, speed_mps, params))
-    narrowing = NARROWING_RULES[params.way_out](boxes, ego, params)
-    crossing = 0.0 if impatient else max(
-        crossing_proximity(decision, boxes, speed_mps, params.region, params.way_out,
-                           0.0 if params.way_out == "none" else params.way_out_path_m,
-                           lane_change(decision, boxes, ego, params)), narrowing.proximity)
-    return RegionCycle(ego, decision, off_axis, crossing, narrowing.standoff)
+    narrowing = NARROWING_RULES[params.way_out](boxes, ego, params, turn)
+    crossing = 0.0 if turn == Turn.TAKING else crossing_proximity(
+        decision, boxes, speed_mps, params.region, params.way_out,
+        0.0 if params.way_out == "none" else params.way_out_path_m, lane_change(decision, boxes, ego, params))
+    return RegionCycle(ego, decision, off_axis, max(crossing, narrowing.proximity), narrowing.standoff,
+                       narrowing.contested, narrowing.found)
 
 
 def held_back(region: RegionCycle | None) -> bool:

@@ -36,7 +36,8 @@ from .modes import decide
 from .output_gate import gate, gate_steering
 from .params import CoreParams
 from .plan import plan
-from .planar import held_back, merged, region_cycle, report
+from .planar import merged, region_cycle, report
+from .region.narrowing import Turn
 from .plausibility import Health, input_health, speed_radar_implausible
 from .relevance import object_in_path
 from .speed_estimate import next_speed
@@ -44,7 +45,7 @@ from .steering import REQUEST_RANGE_RAD, steering, steering_held, unavoidable
 from .track_confirmation import confirmed, next_track
 from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag
 from .validity import input_validity
-from .way_out import impatient, next_slow_cycles
+from .way_out import next_way_out, turn
 
 _SPEED_RADAR, _INTERNAL = (1 << FaultFlag[name] for name in ("SPEED_RADAR", "INTERNAL"))
 
@@ -77,8 +78,8 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     fault = flags & ~REPORT_ONLY_FLAGS
     estimate, decel_mps2 = params.strategy_rules.cycle_decel(state, inputs, speed, wheels_ok, params)
     cycle_plan = plan(speed, inputs, relevant, decel_mps2, params)
-    waited_out = impatient(state, params)
-    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params, in_our_path, waited_out) \
+    way = turn(state, params)
+    region = region_cycle(speed, inputs, cycle_plan, decel_mps2, params, in_our_path, way) \
         if inputs.tracks else None
     cycle_plan = merged(cycle_plan, region, steering_held(state, speed, params), params)
     # standstill only matters while faulted (a held contingency ends there)
@@ -92,6 +93,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     gated = gate(mode, throttle, min(decel, steer.decel_mps2))
     steer_active, steer_rad, steer_bad = gate_steering(steer.active, steer.request_rad, REQUEST_RANGE_RAD)
     interventions = gated.interventions + steer_bad
+    slow_cycles, backoffs = next_way_out(state, speed, region, way == Turn.TAKING, params)
     if interventions:
         flags |= _INTERNAL
     next_state = CoreState(
@@ -101,7 +103,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
         gate_interventions=state.gate_interventions + interventions, decel=estimate, track=track,
         cycles_since_drive=health.cycles_since_drive, traction_excess_mps=health.traction_excess_mps,
         steer_curvature_1pm=steer.curvature_1pm, steer_request_rad=steer_rad,
-        slow_cycles=next_slow_cycles(state, speed, waited_out or held_back(region), params))
+        slow_cycles=slow_cycles, way_out_backoffs=backoffs)
     outputs = CoreOutputs(
         mode=gated.mode, override_active=gated.override_active, throttle_limit_pct=gated.throttle_limit_pct,
         brake_decel_request_mps2=gated.brake_decel_request_mps2, fault_flags=flags,

@@ -114,6 +114,8 @@ class CoreState(NamedTuple):
     steer_request_rad: float = 0.0
     #: cycles slow with something near the nominal path (:mod:`ecu.core.way_out`; 0 without a way-out rule)
     slow_cycles: int = 0
+    #: turns given back at the narrowing ahead (:mod:`ecu.core.way_out`, backing off)
+    way_out_backoffs: int = 0
 
 
 class CoreOutputs(NamedTuple):

@@ -11,19 +11,51 @@ has its own patience (a fleet draws it per car from its seed, :mod:`cosim.fleet.
 all lose patience at once. Only tightening is given up: the contingency keeps the car's stopping path
 disjoint from every object's stopping region, so the car that takes its turn still stops for a car that
 goes at the same time.
+
+**Backing off.** Two patiences closer than the time to see the other start send both cars at once. At a
+narrowing each then meets the other on the move while taking its turn (*contested*,
+:class:`ecu.core.region.narrowing.Turn`): both give the turn back, count their patience anew, and from then on
+yield to any car on the move toward the narrowing until they have passed it. The new wait is a seeded uniform
+fraction of the car's patience, drawn afresh at every back-off from ``way_out_seed`` and the number of back-offs
+(Python's :class:`random.Random`, seeded with a string, as the fleet draws the patience): the random backoff of
+CSMA/CD (IEEE 802.3's truncated binary exponential backoff draws a uniform number of slot times), with one
+window, the car's own patience, so that the retries stay short. Two draws meet again with a probability of
+about twice the detection time over the patience (0.4 s over 0.5-3 s), and a new draw follows.
 """
 
 from __future__ import annotations
 
 import math
+import random
 
 from .params import CoreParams
+from .planar import RegionCycle, held_back
+from .region.narrowing import Turn
 from .types import CoreState
+
+
+def backoff_fraction(seed: int, backoffs: int) -> float:
+    """The seeded uniform draw in [0, 1) of back-off number ``backoffs`` (module docstring)."""
+    return random.Random(f"way-out backoff/{seed}/{backoffs}").random()
+
+
+def patience_s(state: CoreState, params: CoreParams) -> float:
+    """The wait before the car takes its turn: its patience, or after a back-off a fresh fraction of it."""
+    if state.way_out_backoffs == 0:
+        return params.way_out_patience_s
+    return params.way_out_patience_s * backoff_fraction(params.way_out_seed, state.way_out_backoffs)
 
 
 def impatient(state: CoreState, params: CoreParams) -> bool:
     """The car has waited its patience out (only with a way-out rule)."""
-    return params.way_out != "none" and state.slow_cycles * params.cycle_s >= params.way_out_patience_s - 1e-9
+    return params.way_out != "none" and state.slow_cycles * params.cycle_s >= patience_s(state, params) - 1e-9
+
+
+def turn(state: CoreState, params: CoreParams) -> Turn:
+    """Where the car stands in its patience (:class:`ecu.core.region.narrowing.Turn`)."""
+    if impatient(state, params):
+        return Turn.TAKING
+    return Turn.BACKED_OFF if state.way_out_backoffs else Turn.NONE
 
 
 def next_slow_cycles(state: CoreState, speed_mps: float, near: bool, params: CoreParams) -> int:
@@ -31,3 +63,16 @@ def next_slow_cycles(state: CoreState, speed_mps: float, near: bool, params: Cor
     if params.way_out == "none" or speed_mps >= params.way_out_slow_speed_mps or not near:
         return 0
     return min(state.slow_cycles + 1, math.ceil(params.way_out_patience_s / params.cycle_s) + 1)
+
+
+def next_way_out(state: CoreState, speed_mps: float, region: RegionCycle | None, taking: bool,
+                 params: CoreParams) -> tuple[int, int]:
+    """(slow cycles, back-offs) of the next cycle: a contested turn backs off (the count starts again, one more
+    back-off); the back-offs are forgotten once the car is going with no narrowing ahead (module docstring;
+    not while slow: braking hard, the radar's lagging relative speeds make parked cars seem to move, and the
+    narrowing drops out of sight for a few cycles)."""
+    if taking and region is not None and region.contested:
+        return 0, state.way_out_backoffs + 1
+    ahead = region is not None and region.at_narrowing
+    backoffs = state.way_out_backoffs if ahead or speed_mps < params.way_out_slow_speed_mps else 0
+    return next_slow_cycles(state, speed_mps, taking or held_back(region), params), backoffs

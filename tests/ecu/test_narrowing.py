@@ -1,5 +1,7 @@
 """A narrowing ahead and who passes it first (ecu.core.region.narrowing, StVO section 6)."""
 
+import math
+
 import pytest
 
 from can_dbc.contract import enumeration
@@ -11,6 +13,8 @@ from ecu.core.region.narrowing import (
     TIE_S,
     find_narrowing,
     must_yield,
+    Turn,
+    in_corridor,
     room_for_two_m,
 )
 
@@ -92,9 +96,9 @@ def test_the_yield_tightens_toward_a_line_before_the_narrowing_and_only_under_ri
     """Stop short of the entry by narrowing_wait_m: the proximity grows as that line comes nearer; the other
     rules do not tighten at a narrowing."""
     rule = NARROWING_RULES["right_of_way"]
-    near, far = (rule([*_passage(entry), _oncoming(entry + 30.0)], _ego(), P).proximity for entry in (25.0, 32.0))
+    near, far = (rule([*_passage(entry), _oncoming(entry + 30.0)], _ego(), P, Turn.NONE).proximity for entry in (25.0, 32.0))
     assert 0.0 < far < near <= 1.0
-    assert NARROWING_RULES["none"]([*_passage(25.0), _oncoming(55.0)], _ego(), P).proximity == 0.0
+    assert NARROWING_RULES["none"]([*_passage(25.0), _oncoming(55.0)], _ego(), P, Turn.NONE).proximity == 0.0
     assert tuple(NARROWING_RULES) == tuple(WAY_OUT_RULES)
 
 
@@ -121,14 +125,14 @@ def test_two_cars_waiting_at_a_two_sided_narrowing_are_in_a_standoff_the_patienc
     parked, partner = _standing_at(0.0)
     n = find_narrowing(parked, 0.0, P)
     assert standoff(n, [*parked, partner], _ego(0.0), P)
-    answer = NARROWING_RULES["right_of_way"]([*parked, partner], _ego(0.0), P)
+    answer = NARROWING_RULES["right_of_way"]([*parked, partner], _ego(0.0), P, Turn.NONE)
     assert answer.standoff and answer.proximity > 0.0
     assert not standoff(n, parked, _ego(0.0), P)  # nobody waits on the other side
     going = P.way_out_slow_speed_mps + 0.5
     parked_fast, partner_fast = _standing_at(going)
     assert not standoff(find_narrowing(parked_fast, going, P), [*parked_fast, partner_fast], _ego(going), P)
     creeping, _ = _standing_at(1.0)  # we creep at 1 m/s; it comes at 4 m/s: we yield, and that is no standoff
-    answer = NARROWING_RULES["right_of_way"]([*creeping, partner._replace(vx_mps=-5.0)], _ego(1.0), P)
+    answer = NARROWING_RULES["right_of_way"]([*creeping, partner._replace(vx_mps=-5.0)], _ego(1.0), P, Turn.NONE)
     assert answer.proximity > 0.0 and not answer.standoff
 
 
@@ -141,3 +145,36 @@ def test_a_one_sided_narrowing_is_no_standoff():
     n = find_narrowing(parked, 0.0, P)
     assert n is not None and n.ours and not n.theirs
     assert not standoff(n, [*parked, partner], _ego(0.0), P)
+
+
+def _rotated(tracks: list[TrackBox], angle_rad: float) -> list[TrackBox]:
+    """The tracks as a car whose heading is ``angle_rad`` to the left of the road's sees them (positions only)."""
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return [t._replace(x_m=c * t.x_m + s * t.y_m, y_m=-s * t.x_m + c * t.y_m) for t in tracks]
+
+
+def test_the_corridor_follows_the_passage_not_our_heading():
+    """Steering toward the gap (5 degrees left of the road), a car coming through the passage from 70 m lies
+    metres to our right, outside our heading's lanes; it is still in the passage's corridor, and we yield."""
+    angle = math.radians(5.0)
+    passage, other = _rotated(_passage(20.0), angle), _rotated([_oncoming(70.0, speed_mps=16.0)], angle)[0]
+    n = find_narrowing(passage, SPEED, P)
+    assert other.y_m < -0.5 * P.lane_width_m  # outside the window of our heading's lanes
+    assert n.centre_slope == pytest.approx(-math.tan(angle), abs=0.01)
+    assert in_corridor(other, n, P)
+    assert not in_corridor(other._replace(y_m=other.y_m - 2.0 * P.lane_width_m), n, P)
+    assert must_yield(n, [*passage, other], _ego(), P)
+
+
+def test_taking_a_turn_passes_a_standoff_but_backs_off_from_a_car_on_the_move():
+    """Impatient (TAKING), we no longer wait for the car standing on the other side; if it comes too, the turn
+    is contested and we yield. Only a car taking or having given back its turn sees a contest."""
+    rule = NARROWING_RULES["right_of_way"]
+    parked, partner = _standing_at(0.0)
+    assert rule([*parked, partner], _ego(0.0), P, Turn.TAKING).proximity == 0.0
+    coming = partner._replace(vx_mps=-2.0)
+    taking = rule([*parked, coming], _ego(0.0), P, Turn.TAKING)
+    assert taking.contested and taking.proximity > 0.0 and taking.found
+    assert rule([*parked, coming], _ego(0.0), P, Turn.BACKED_OFF).contested
+    assert not rule([*parked, coming], _ego(0.0), P, Turn.NONE).contested
+    assert not rule([t for t in parked if t.y_m > 0.0], _ego(0.0), P, Turn.TAKING).found  # one side: none

@@ -20,10 +20,12 @@ and neither can back up (the plant does not reverse).
   *exit* the last pair's far end, both along our heading from the front bumper;
 * the obstacle is *ours* when a right-hand object reaches into our lane (``y > -lane_width_m / 2``: we must leave
   our lane to pass it) and *theirs* when a left-hand one reaches into the lane left of ours (``y < 1.5
-  lane_width_m``, the lane the ECU assumes for oncoming traffic).
+  lane_width_m``, the lane the ECU assumes for oncoming traffic), each ``y`` taken along the passage (less the
+  drift of its centre line, :func:`in_corridor`, since our bumper), so that a car steering toward the gap
+  judges as one aligned with the road.
 
 **Who goes first** (:func:`must_yield`), against each oncoming vehicle (vehicle class, moving, its velocity over
-ground within 30 degrees of our opposite heading, in our lane or the one left of it, its rear not yet past our
+ground within 30 degrees of our opposite heading, within a lane of the passage's centre line (:func:`in_corridor`), its rear not yet past our
 entry: in the narrowing or coming toward it). Each car's speed held (both judged alike; a standing car reaches
 nothing): we reach the entry at ``t_in`` and our waiting line (below) at ``t_wait``; it enters at ``t_them_in``
 (0 when already in: its nearest point short of the exit) and has left our end at ``t_them_out`` (its nearest
@@ -40,7 +42,10 @@ meet in the middle. So a car slow before a two-sided narrowing also waits while 
 other side (:func:`waiting_partner`), and that wait, not the one for a car on the move, is what the seeded
 patience of :mod:`ecu.core.way_out` counts. The car whose patience runs out first takes its turn; the other sees
 it come, yields to a car on the move, and its patience starts again. Two draws closer than the time to see the
-other start (its speed over ``moving_object_speed_mps``, a radar latency later: about 0.4 s) still both go.
+other start (its speed over ``moving_object_speed_mps``, a radar latency later: about 0.4 s) both go; each then
+sees the other on the move toward the narrowing while taking its turn (:class:`Turn`, *contested*), and both
+back off: they yield to any car on the move, stop again, and wait a fresh seeded draw of their patience
+(:mod:`ecu.core.way_out`), so that one goes first.
 
 **Yielding** (:func:`narrowing_proximity`): the car must stop *before* the narrowing, ``narrowing_wait_m``
 short of its entry, where the oncoming car, leaving it in the middle of the road, can get back to its own side
@@ -53,6 +58,7 @@ the contingency keeps our stopping path disjoint from every object's region as a
 from __future__ import annotations
 
 import math
+from enum import IntEnum
 from types import MappingProxyType
 from typing import Callable, Mapping, NamedTuple, Sequence
 
@@ -73,13 +79,16 @@ TIE_S = 0.5
 
 class Narrowing(NamedTuple):
     """A narrowing ahead (module docstring): entry and exit along our heading from the front bumper (m), its
-    least free width (m), and whether the obstacle is ours and theirs."""
+    least free width (m), whether the obstacle is ours and theirs, and its centre line (the free gap's centre
+    at the entry, ``y`` m, and its slope, m per m along our heading: :func:`in_corridor`)."""
 
     entry_m: float
     exit_m: float
     width_m: float
     ours: bool
     theirs: bool
+    centre_y_m: float
+    centre_slope: float
 
 
 def _length_m(track: TrackBox) -> float:
@@ -115,14 +124,30 @@ def find_narrowing(tracks: Sequence[TrackBox], speed_mps: float, params: CorePar
     pairs = _pairs(_standing_ahead(tracks, speed_mps, params), params)
     if not pairs:
         return None
-    entry, exit_m, width, right, left = pairs[0]
-    ours, theirs = right > -0.5 * params.lane_width_m, left < 1.5 * params.lane_width_m
-    for near, far, w, r, l_ in pairs[1:]:
-        if near > exit_m + 2.0 * params.region.length_m:
+    entry, exit_m, width = pairs[0][0], pairs[0][1], pairs[0][2]
+    included = [pairs[0]]
+    for pair in pairs[1:]:
+        if pair[0] > exit_m + 2.0 * params.region.length_m:
             break
-        exit_m, width = max(exit_m, far), min(width, w)
-        ours, theirs = ours or r > -0.5 * params.lane_width_m, theirs or l_ < 1.5 * params.lane_width_m
-    return Narrowing(entry, exit_m, width, ours, theirs)
+        exit_m, width = max(exit_m, pair[1]), min(width, pair[2])
+        included.append(pair)
+    first, last = included[0], included[-1]
+    centre, run_m = 0.5 * (first[3] + first[4]), last[0] - entry
+    slope = (0.5 * (last[3] + last[4]) - centre) / run_m if run_m >= params.region.length_m else 0.0
+    # lanes are judged along the passage: an offset less the centre line's drift since our bumper
+    ours = any(r - slope * near > -0.5 * params.lane_width_m for near, _, _, r, _ in included)
+    theirs = any(l_ - slope * near < 1.5 * params.lane_width_m for near, _, _, _, l_ in included)
+    return Narrowing(entry, exit_m, width, ours, theirs, centre, slope)
+
+
+def in_corridor(track: TrackBox, narrowing: Narrowing, params: CoreParams) -> bool:
+    """The track lies within a lane's width of the narrowing's centre line (:class:`Narrowing`), the line through
+    the free gap's centre at its first and last pair (along our heading with one pair, or pairs closer than our
+    length): where a vehicle that comes through the gap, or waits for it, drives. Measured along the passage, not
+    our heading: a car steering toward the gap sees the far end of the passage, and a car waiting beyond it,
+    several metres to one side (``crd fleet narrow_passage_tie``: 5 m at 37 m with our heading 8 degrees off)."""
+    centre = narrowing.centre_y_m + narrowing.centre_slope * (track.x_m - narrowing.entry_m)
+    return abs(track.y_m - centre) <= params.lane_width_m
 
 
 def time_to_m(distance_m: float, speed_mps: float) -> float:
@@ -136,17 +161,17 @@ def _oncoming(track: TrackBox, speed_mps: float, narrowing: Narrowing, params: C
     """The track's speed toward us over ground (m/s) if it is an oncoming vehicle not yet out of the narrowing
     at our end (its rear beyond our entry), else 0."""
     ux, uy = track.vx_mps + speed_mps, track.vy_mps
-    lanes = -0.5 * params.lane_width_m <= track.y_m <= 1.5 * params.lane_width_m
+    lanes = in_corridor(track, narrowing, params)
     toward = ux < -params.region.moving_object_speed_mps and abs(uy) <= -ux * math.tan(CROSSING_ANGLE_RAD)
     ok = track.size_class in VEHICLE_CLASSES and lanes and toward and track.x_m + _length_m(track) > narrowing.entry_m
     return -ux if ok else 0.0
 
 
 def waiting_partner(track: TrackBox, speed_mps: float, narrowing: Narrowing, params: CoreParams) -> bool:
-    """A standing vehicle in our lane or the one left of it, beyond the narrowing's far end and within two waiting
+    """A standing vehicle within a lane of the passage's centre line (:func:`in_corridor`), beyond the narrowing's far end and within two waiting
     distances of it: the other car of a two-sided narrowing, waiting on its side (module docstring, Standoff)."""
     standing = math.hypot(track.vx_mps + speed_mps, track.vy_mps) <= params.region.moving_object_speed_mps
-    lanes = -0.5 * params.lane_width_m <= track.y_m <= 1.5 * params.lane_width_m
+    lanes = in_corridor(track, narrowing, params)
     beyond = narrowing.exit_m <= track.x_m <= narrowing.exit_m + 2.0 * params.narrowing_wait_m
     return track.size_class in VEHICLE_CLASSES and standing and lanes and beyond
 
@@ -179,34 +204,51 @@ def must_yield(narrowing: Narrowing, tracks: Sequence[TrackBox], ego: EgoState, 
     return False
 
 
+class Turn(IntEnum):
+    """Where a car stands in the way-out patience of :mod:`ecu.core.way_out` at a narrowing."""
+
+    #: approaching, or waiting its patience out
+    NONE = 0
+    #: impatient: it takes its turn, past a standoff (yet it yields to a car that has taken it too)
+    TAKING = 1
+    #: it took its turn with another car and gave it back: it yields to any car on the move toward the narrowing
+    BACKED_OFF = 2
+
+
 class AtNarrowing(NamedTuple):
-    """A narrowing rule's answer: the proximity to tighten by toward the waiting line, and whether the car waits
-    in a standoff (what the way-out patience counts, :func:`ecu.core.planar.held_back`)."""
+    """A narrowing rule's answer: the proximity to tighten by toward the waiting line; whether the car waits in a
+    standoff (what the way-out patience counts, :func:`ecu.core.planar.held_back`); whether a car taking or
+    having given back its turn meets a vehicle on the move toward the narrowing (*contested*: both took their
+    turn at once, :mod:`ecu.core.way_out` backs off); whether a narrowing lies ahead at all."""
 
     proximity: float
     standoff: bool
+    contested: bool = False
+    found: bool = False
 
 
 NOT_AT_ONE = AtNarrowing(0.0, False)
 
 
-def _stvo_6(tracks: Sequence[TrackBox], ego: EgoState, params: CoreParams) -> AtNarrowing:
+def _stvo_6(tracks: Sequence[TrackBox], ego: EgoState, params: CoreParams, turn: Turn) -> AtNarrowing:
     narrowing = find_narrowing(tracks, ego.speed_mps, params)
     if narrowing is None or narrowing.entry_m <= 0.0:
         return NOT_AT_ONE
-    waiting = standoff(narrowing, tracks, ego, params)
-    if not (waiting or must_yield(narrowing, tracks, ego, params)):
-        return NOT_AT_ONE
+    waiting = turn != Turn.TAKING and standoff(narrowing, tracks, ego, params)
+    contested = turn != Turn.NONE and any(_oncoming(t, ego.speed_mps, narrowing, params) > 0.0 for t in tracks)
+    if not (waiting or contested or must_yield(narrowing, tracks, ego, params)):
+        return AtNarrowing(0.0, False, False, True)
     stop = stopping_distance_m(ego.speed_mps, ego.accel_mps2, params.hold_time_s, ego.decel_mps2)
-    return AtNarrowing(proximity_of(narrowing.entry_m - params.narrowing_wait_m - stop, params.region), waiting)
+    proximity = proximity_of(narrowing.entry_m - params.narrowing_wait_m - stop, params.region)
+    return AtNarrowing(proximity, waiting, contested, True)
 
 
-def _never(tracks: Sequence[TrackBox], ego: EgoState, params: CoreParams) -> AtNarrowing:
+def _never(tracks: Sequence[TrackBox], ego: EgoState, params: CoreParams, turn: Turn) -> AtNarrowing:
     return NOT_AT_ONE
 
 
-#: a narrowing rule: (the tracks, the ego, the parameters) -> its answer (:class:`AtNarrowing`)
-NarrowingRule = Callable[[Sequence[TrackBox], EgoState, CoreParams], AtNarrowing]
+#: a narrowing rule: (the tracks, the ego, the parameters, the car's turn) -> its answer (:class:`AtNarrowing`)
+NarrowingRule = Callable[[Sequence[TrackBox], EgoState, CoreParams, Turn], AtNarrowing]
 #: ``[ecu] way_out`` -> its rule at a narrowing (the keys of :data:`ecu.core.region.crossing.WAY_OUT_RULES`)
 NARROWING_RULES: Mapping[str, NarrowingRule] = MappingProxyType({
     "none": _never,               # the plain method
