@@ -15,8 +15,9 @@ box the report allows).
 **Standing** (speed over ground ``|v_rel + (v_ego, 0)| <=`` ``moving_object_speed_mps``, as the 1-D
 core): its box, aligned with the ego (a standing object's heading is not measured).
 **Moving**: the stopping region of :class:`ecu.core.region.params.ClassCapability`: the box swept
-along its velocity ``phi = atan2(v_y, v_x)`` over ``s = v^2 / (2 d_c)``, widened on each side by
-``min(y_max, a_lat t^2 / 2)``, ``t = v / d_c``. A region is a union over time, so an object that
+along its velocity ``phi = atan2(v_y, v_x)`` over ``s = (v + a rho / 2) rho + v_rho^2 / (2 d_c)``,
+``v_rho = v + a rho`` (its response time ``rho`` at acceleration ``a``, then its braking), widened on each
+side by ``min(y_max, a_lat t^2 / 2)``, ``t = rho + v_rho / d_c``. A region is a union over time, so an object that
 brakes harder than ``d_c`` stays inside it (and the 1-D core's constant-speed assumption, which a
 braking lead defeats, is not needed).
 
@@ -69,7 +70,7 @@ def object_box(track: TrackBox, ego_speed_mps: float, params: RegionParams) -> t
     """(x, y, cos, sin, half length, half width, moving) of one track (module docstring); scalar code:
     for eight tracks it is faster than numpy's per-call overhead."""
     x, y, vx, vy, size_class, sigma = track
-    length, width, decel, lat, reach = CAPABILITIES.get(size_class, CAPABILITIES[0])
+    length, width, decel, lat, reach, response, accel = CAPABILITIES.get(size_class, CAPABILITIES[0])
     vx += ego_speed_mps
     speed = math.hypot(vx, vy)
     moving = speed > params.moving_object_speed_mps
@@ -80,8 +81,9 @@ def object_box(track: TrackBox, ego_speed_mps: float, params: RegionParams) -> t
     cy, wy = _place(y, a * as_ + b * ac, tol)
     sweep = side = 0.0
     if moving:
-        sweep = speed * speed / (2.0 * decel)
-        side = min(reach, 0.5 * lat * (speed / decel) ** 2)
+        fast = speed + accel * response
+        sweep = (speed + 0.5 * accel * response) * response + fast * fast / (2.0 * decel)
+        side = min(reach, 0.5 * lat * (response + fast / decel) ** 2)
     return (cx + 0.5 * sweep * c + params.rear_axle_to_front_m, cy + 0.5 * sweep * s, c, s,
             a + wx * ac + wy * as_ + 0.5 * sweep + tol, b + wx * as_ + wy * ac + side + tol, float(moving))
 

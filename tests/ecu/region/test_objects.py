@@ -53,6 +53,21 @@ def test_crossing_pedestrian_region_points_across_the_road():
     assert box.imag.max() == pytest.approx(objects.centre[0].imag + objects.half_length_m[0])
 
 
+def test_a_walking_pedestrian_and_a_cyclist_go_on_for_their_response_time_before_they_brake():
+    """CARLA's pedestrian (0.5 s at up to 2 m/s^2) and RSS's other road user (2 s, speed held): the region reaches
+    that far further along the walk or ride than a stop the moment it is seen; a car keeps none."""
+    walker = CAPABILITIES[CLASS["PEDESTRIAN"]]
+    assert (walker.response_s, walker.accel_mps2) == (0.5, 2.0)
+    objects = object_set([TrackBox(15.0, -3.0, -10.0, 1.4, CLASS["PEDESTRIAN"], 0.0)], 10.0, P)
+    fast = 1.4 + 2.0 * 0.5
+    sweep = (1.4 + 0.5 * 2.0 * 0.5) * 0.5 + fast ** 2 / (2 * walker.decel_mps2)
+    assert objects.half_length_m[0] == pytest.approx(0.3 + sweep / 2)  # along the walk: half its 0.6 m and the sweep
+    assert sweep > 2.0 * 1.4 ** 2 / (2 * walker.decel_mps2)  # more than twice the sweep without a response
+    rider = object_set([TrackBox(15.0, -3.0, -10.0, 4.0, CLASS["BICYCLE"], 0.0)], 10.0, P)
+    assert rider.half_length_m[0] == pytest.approx(1.89 / 2 + (4.0 * 2.0 + 4.0 ** 2 / (2 * 3.0)) / 2)
+    assert CAPABILITIES[CLASS["CAR"]].response_s == 0.0
+
+
 def test_unknown_class_falls_back_to_the_unknown_capability():
     a = object_set([TrackBox(20.0, 2.0, -10.0, 0.0, 7, 0.0)], 10.0, P)
     b = object_set([TrackBox(20.0, 2.0, -10.0, 0.0, CLASS["UNKNOWN"], 0.0)], 10.0, P)
