@@ -64,6 +64,18 @@ def find_scene(arg: str) -> Path:
     raise ConfigError(f"{arg}: fleet file not found, and no bundled fleet scene of that name (bundled: {names})")
 
 
+def first_sentence(path: Path) -> str:
+    """The first sentence of a scene file's leading comment (its description), its lines joined."""
+    lines = []
+    for line in path.read_text().splitlines():
+        if not line.startswith("#"):
+            break
+        lines.append(line.lstrip("#").strip())
+    text = " ".join(lines)
+    end = text.find(". ")
+    return text if end < 0 else text[:end + 1]
+
+
 def strategies_of(args: argparse.Namespace, names: tuple[str, ...]) -> dict[str, str]:
     """Vehicle -> strategy from ``--strategy`` and ``--set``; a bad ``--set`` is a one-line error."""
     out = {n: args.strategy for n in names} if args.strategy else {}
@@ -82,7 +94,7 @@ def _do_fleet(args: argparse.Namespace) -> int:
 
     if args.list:
         for path in bundled_scenes():
-            print(f"{path.stem:<24} {path.read_text().splitlines()[0].lstrip('# ')}")
+            print(f"{path.stem:<24} {first_sentence(path)}")
         return 0
     if args.scene is None:
         raise ConfigError("crd fleet: expected a SCENE (a fleet TOML file or a bundled name; --list shows them)")

@@ -80,3 +80,13 @@ def test_frame_round_trip_and_the_puppet_seen_from_another_frame():
     later = seen.state(1.5)  # past the board's time: at constant velocity
     assert (later.x_m, later.y_m) == pytest.approx((40.0, -36.0))
     assert seen.observe(1.0, 5.0, None) is False
+
+
+def test_the_list_shows_each_bundled_scene_by_the_first_sentence_of_its_comment():
+    """``crd fleet --list``: a whole sentence, not the first line cut mid-phrase."""
+    from cosim.cli.fleet import bundled_scenes, find_scene, first_sentence
+
+    for path in bundled_scenes():
+        text = first_sentence(path)
+        assert text.endswith((".", ")")) and "#" not in text and len(text) > 40, (path.name, text)
+    assert first_sentence(find_scene("crossing")).endswith("(the paper's guidance task).")
