@@ -25,6 +25,7 @@ from ecu.core.params import CoreParams
 from ecu.settings import keys
 from .ecu_options import add_ecu_arguments, ecu_options
 from .progress import end_progress, progress_printer
+from .scenarios import description
 from .signals import interruptible
 
 SCENES_DIR = Path(__file__).resolve().parent.parent / "fleet" / "scenes"
@@ -64,18 +65,6 @@ def find_scene(arg: str) -> Path:
     raise ConfigError(f"{arg}: fleet file not found, and no bundled fleet scene of that name (bundled: {names})")
 
 
-def first_sentence(path: Path) -> str:
-    """The first sentence of a scene file's leading comment (its description), its lines joined."""
-    lines = []
-    for line in path.read_text().splitlines():
-        if not line.startswith("#"):
-            break
-        lines.append(line.lstrip("#").strip())
-    text = " ".join(lines)
-    end = text.find(". ")
-    return text if end < 0 else text[:end + 1]
-
-
 def strategies_of(args: argparse.Namespace, names: tuple[str, ...]) -> dict[str, str]:
     """Vehicle -> strategy from ``--strategy`` and ``--set``; a bad ``--set`` is a one-line error."""
     out = {n: args.strategy for n in names} if args.strategy else {}
@@ -94,7 +83,7 @@ def _do_fleet(args: argparse.Namespace) -> int:
 
     if args.list:
         for path in bundled_scenes():
-            print(f"{path.stem:<24} {first_sentence(path)}")
+            print(f"{path.stem:<24} {description(path)}")
         return 0
     if args.scene is None:
         raise ConfigError("crd fleet: expected a SCENE (a fleet TOML file or a bundled name; --list shows them)")

@@ -84,9 +84,10 @@ def test_frame_round_trip_and_the_puppet_seen_from_another_frame():
 
 def test_the_list_shows_each_bundled_scene_by_the_first_sentence_of_its_comment():
     """``crd fleet --list``: a whole sentence, not the first line cut mid-phrase."""
-    from cosim.cli.fleet import bundled_scenes, find_scene, first_sentence
+    from cosim.cli.fleet import bundled_scenes, find_scene
+    from cosim.cli.scenarios import description
 
     for path in bundled_scenes():
-        text = first_sentence(path)
+        text = description(path)
         assert text.endswith((".", ")")) and "#" not in text and len(text) > 40, (path.name, text)
-    assert first_sentence(find_scene("crossing")).endswith("(the paper's guidance task).")
+    assert description(find_scene("crossing")).endswith("(the paper's guidance task).")
