@@ -75,8 +75,8 @@ from ..world.plant import divides_step, finite_check, open_plant
 from ..world.plant_fmu import DERIVED_WHEEL_SPEEDS, PlantSample
 from ..world.radar2d import Track
 from ..world.radar_model import RadarModel
-from ..world.corner_radar import CornerFeed
-from ..world.radar_tracks import TrackFeed, radar_params
+from ..world.corner_radar import CornerFeed, forward_feed
+from ..world.radar_tracks import radar_params
 from ..world.scene import Scene
 from ..world.scene_build import build_objects, build_road
 from ..world.scene_contact import ContactWatch, Hit
@@ -159,7 +159,8 @@ class ClosedLoop:
         #: planar runs: pose columns, the contact in metrics and events, the 2-D tracks every radar cycle
         self.planar = scenario.planar
         params = radar_params(scenario.radar, self.ego_body, scenario.scenario.seed)
-        self.tracks = TrackFeed(self.scene, params) if self.planar else None
+        fitted = scenario.radar.front_corner  # the front corner radars: their tracks join the forward radar's
+        self.tracks = forward_feed(self.scene, params, self.ego_body, fitted) if self.planar else None
         #: the rear corner radars' merged tracks (``[radar] corner``, planar runs; cosim.world.corner_radar)
         self.corner = CornerFeed(self.scene, params, self.ego_body) if self.planar and scenario.radar.corner else None
 

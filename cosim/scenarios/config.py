@@ -285,6 +285,10 @@ class RadarConfig:
         90.0, unit="deg", allowed=Range(1.0, 180.0),
         doc="full horizontal field of view; an object whose nearest rear corner is outside ±fov/2 of the "
             "bore sight is not seen (default ±45°: the near-range beam of a mid-range automotive radar)")
+    front_corner: bool = setting(
+        False, doc="planar scenes: the front corner radars are fitted too (crossing traffic ahead and to the side, "
+                   "cosim.world.corner_radar): their tracks join the forward radar's in RadarTrack0..7, one list "
+                   "most urgent first, with this table's latency, noise and dropouts")
     corner: bool = setting(
         False, doc="planar scenes: the rear corner radars are fitted too (blind-spot and lane-change sensors, "
                    "cosim.world.corner_radar): cars beside and behind, sent as CornerTrack0..3 with this table's "

@@ -16,12 +16,23 @@ leave no gap beside the car: a car in the next lane level with our front half, w
 does not see (its near corner 2.6 m to the side and 2 m ahead is 52 degrees off), is 15 to 60 degrees
 off the rear corner's sensor (``crd fleet merge`` with the ramp 2 m behind lost it at 135 degrees). Latency, noise, dropouts, period and
 seed are the ``[radar]`` table's, as for the forward radar (:mod:`cosim.world.radar_tracks`); each
-sensor draws from its own generator (seed ``seed + 1`` and ``seed + 2``).
+sensor draws from its own generator (seed ``seed + 1`` and ``seed + 2``; the front ones ``seed + 3`` and ``+ 4``).
 
 **Which point**: every track is reported in the forward radar's frame (x from the front bumper's
 centre, forward; y left) at the point of the object's box nearest that origin, with the velocity
 relative to it: the point from which the ECU places a box (:mod:`ecu.core.region.objects`), so a car
 beside the ego (x < 0) is placed as a car ahead is.
+
+**Front corners** (``[radar] front_corner = true``): two more sensors, at the front corners, bore sight
+``FRONT_BORESIGHT_DEG`` (70 degrees) off the heading toward their side, the same 150-degree field and 80 m
+(no further than the forward radar's ``max_range_m``: a scenario that uncovers an object by that range
+uncovers it to them too). A target on a collision course keeps its bearing, ``atan(v_target / v_ego)``
+for one crossing at right angles: 56 degrees for a cyclist at 15 km/h and an ego at 10 km/h, 74 for a car
+at 70 km/h and an ego at 20, both outside the forward radar's +-45 (the cells of ``ncap_vru`` and
+``ncap_junction`` whose target it never sees). Production cars that brake for crossing traffic carry front
+corner radars or wide cameras for this; the angles are the rear sensors' turned forward, assumptions as
+theirs. Their tracks join the forward radar's in one list (:class:`FrontFeed`, the ``RadarTrack`` slots:
+a fused front object list, by the same rule as below, eight slots).
 
 **Which tracks** (the slot rule of ``CornerTrack0``'s DBC comment): every object either sensor sees,
 once (seen by both: the report of the sensor with the higher existence, then the lower id of the
@@ -43,24 +54,31 @@ from .radar_tracks import TrackFeed
 from .scene import Scene
 
 CORNER_BORESIGHT_DEG = 110.0
+FRONT_BORESIGHT_DEG = 70.0
 CORNER_FIELD_OF_VIEW_DEG = 150.0
 CORNER_MAX_RANGE_M = 80.0
 
 
-def corner_params(forward: Radar2DParams, ego: EgoBody) -> tuple[Radar2DParams, Radar2DParams]:
-    """The left and right corner sensors' parameters, from the forward radar's (``[radar]``; module docstring)."""
-    rear_x_m, half_w = ego.front_m - ego.length_m, ego.half_width_m
+def corner_params(forward: Radar2DParams, ego: EgoBody, front: bool = False) -> tuple[Radar2DParams, Radar2DParams]:
+    """The left and right corner sensors' parameters, from the forward radar's (``[radar]``; module docstring): at
+    the rear corners, or (``front``) at the front ones, seeded ``seed + 3`` and ``seed + 4``."""
+    half_w = ego.half_width_m
+    x_m, bore, first, slots, reach = (ego.front_m - ego.length_m, CORNER_BORESIGHT_DEG, 1, len(CORNER_SLOTS),
+                                      CORNER_MAX_RANGE_M)
+    if front:
+        x_m, bore, first, slots = ego.front_m, FRONT_BORESIGHT_DEG, 3, forward.max_tracks
+        reach = min(reach, forward.max_range_m)
     origin = RadarMount(x_m=ego.front_m)
-    return tuple(replace(forward, mount=RadarMount(rear_x_m, side * half_w, side * math.radians(CORNER_BORESIGHT_DEG)),
-                         field_of_view_deg=CORNER_FIELD_OF_VIEW_DEG, max_range_m=CORNER_MAX_RANGE_M,
-                         max_tracks=len(CORNER_SLOTS), seed=forward.seed + k, report_at=origin)
-                 for k, side in ((1, 1.0), (2, -1.0)))
+    return tuple(replace(forward, mount=RadarMount(x_m, side * half_w, side * math.radians(bore)),
+                         field_of_view_deg=CORNER_FIELD_OF_VIEW_DEG, max_range_m=reach,
+                         max_tracks=slots, seed=forward.seed + first + k, report_at=origin)
+                 for k, side in ((0, 1.0), (1, -1.0)))
 
 
-def merged(left: tuple[Track, ...], right: tuple[Track, ...], slots: int) -> tuple[Track, ...]:
-    """One list of the two sensors' tracks (module docstring: which tracks)."""
+def merged(lists: tuple[tuple[Track, ...], ...], slots: int) -> tuple[Track, ...]:
+    """One list of several sensors' tracks (module docstring: which tracks)."""
     best: dict[int, Track] = {}
-    for track in (*left, *right):
+    for track in (t for tracks in lists for t in tracks):
         if track.id not in best or track.existence > best[track.id].existence:
             best[track.id] = track
     return tuple(sorted(best.values(), key=lambda t: (t.ttc_s, t.range_m, t.id))[:slots])
@@ -77,4 +95,24 @@ class CornerFeed:
         left, right = (sensor.step(cycle, t_s, ego) for sensor in self.sensors)
         if left is None or right is None:
             return None
-        return merged(left, right, len(CORNER_SLOTS))
+        return merged((left, right), len(CORNER_SLOTS))
+
+
+class FrontFeed:
+    """The forward radar and the two front corner sensors; their tracks in one list on report cycles (module
+    docstring: front corners), as a :class:`~cosim.world.radar_tracks.TrackFeed` gives the forward radar's."""
+
+    def __init__(self, scene: Scene, forward: Radar2DParams, ego: EgoBody) -> None:
+        self.forward = TrackFeed(scene, forward)
+        self.sensors = tuple(TrackFeed(scene, params) for params in corner_params(forward, ego, front=True))
+        self.slots = forward.max_tracks
+
+    def step(self, cycle: int, t_s: float, ego: Ego) -> tuple[Track, ...] | None:
+        """The fused tracks of this cycle (call it on every ECU cycle)."""
+        lists = tuple(feed.step(cycle, t_s, ego) for feed in (self.forward, *self.sensors))
+        return None if any(tracks is None for tracks in lists) else merged(lists, self.slots)  # type: ignore[arg-type]
+
+
+def forward_feed(scene: Scene, forward: Radar2DParams, ego: EgoBody, front_corner: bool) -> TrackFeed | FrontFeed:
+    """The feed of the ``RadarTrack`` slots: the forward radar's, with the front corners' when fitted."""
+    return FrontFeed(scene, forward, ego) if front_corner else TrackFeed(scene, forward)

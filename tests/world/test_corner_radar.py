@@ -57,9 +57,9 @@ def test_a_car_ahead_in_our_lane_is_the_forward_radars_alone():
 def test_the_merged_list_has_each_object_once_most_urgent_first_at_most_the_slots():
     def track(i, x, existence, vx=0.0):
         return Track(i, x, 3.0, vx, 0.0, existence, "car")
-    both = merged((track(1, -5.0, 0.5), track(2, -30.0, 0.9, vx=5.0)), (track(1, -5.0, 0.75),), 4)
+    both = merged(((track(1, -5.0, 0.5), track(2, -30.0, 0.9, vx=5.0)), (track(1, -5.0, 0.75),)), 4)
     assert [(t.id, t.existence) for t in both] == [(2, 0.9), (1, 0.75)]  # 2 closes from behind: the most urgent
-    many = merged(tuple(track(i, -10.0 - i, 0.5) for i in range(6)), (), 4)
+    many = merged((tuple(track(i, -10.0 - i, 0.5) for i in range(6)), ()), 4)
     assert [t.id for t in many] == [0, 1, 2, 3]
 
 
@@ -69,3 +69,21 @@ def test_the_sensors_take_the_forward_radars_latency_and_noise_each_with_a_seed_
     assert (left.latency_cycles, left.noise_std, left.dropout_probability) == (2, noisy.noise_std, 0.1)
     assert {left.seed, right.seed, noisy.seed} == {7, 8, 9}
     assert left.mount.y_m == 0.9 and right.mount.y_m == -0.9 and left.mount.x_m == 3.5 - 4.5
+
+
+def test_a_cyclist_crossing_at_56_degrees_is_seen_by_a_front_corner_radar_only():
+    """A cyclist on a collision course at 15 km/h with us at 10 km/h keeps its bearing, atan(15/10) = 56 deg:
+    outside the forward radar's +-45 deg, inside the left front corner's field (ncap_vru CBNA-*-10)."""
+    front_left, front_right = corner_params(FORWARD, BODY, front=True)
+    cyclist = ObjectTruth(4, Box(3.5 + 10.0, 15.0, -1.5708, 1.89, 0.5), BodyMotion(0.0, -4.17), "bicycle")
+    assert seen(FORWARD, cyclist) == () and seen(front_right, cyclist) == ()
+    (t,) = seen(front_left, cyclist)
+    assert 9.0 < t.x_m < 10.5 and 14.0 < t.y_m < 15.0  # reported in the forward radar's frame, as its own tracks
+    assert front_left.max_tracks == FORWARD.max_tracks and front_left.seed == FORWARD.seed + 3
+
+
+def test_the_front_corners_see_no_further_than_the_forward_radar():
+    """A scenario that uncovers an object by the forward radar's range (emergency_steering) uncovers it to them too."""
+    near = Radar2DParams(mount=RadarMount(3.5), period_cycles=1, latency_cycles=0, max_range_m=30.0)
+    assert all(p.max_range_m == 30.0 for p in corner_params(near, BODY, front=True))
+    assert all(p.max_range_m == 80.0 for p in corner_params(FORWARD, BODY, front=True))
