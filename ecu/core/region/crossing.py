@@ -40,7 +40,7 @@ from can_dbc.contract import enumeration
 
 from .decision import RegionDecision, proximity_of
 from .objects import ObjectSet, TrackBox
-from .overlap import gaps
+from .overlap import row_gaps
 from .params import RegionParams
 from .paths import NOMINAL
 from .reciprocal import reciprocal_mask
@@ -106,9 +106,11 @@ def crossing_proximity(decision: RegionDecision, tracks: Sequence[TrackBox], spe
         mask = mask | also
     if not mask.any():
         return 0.0
-    subset = ObjectSet(*(field[mask] for field in objects))
-    if path_ahead_m > 0.0:
+    if path_ahead_m > 0.0:  # the regions extended: the nominal row's gaps to them worked out
+        subset = ObjectSet(*(field[mask] for field in objects))
         subset = subset._replace(centre=subset.centre + 0.5 * path_ahead_m * subset.axis,
                                  half_length_m=subset.half_length_m + 0.5 * path_ahead_m)
-    clearance = float(gaps(decision.paths, subset, decision.box)[NOMINAL].min())
+        clearance = float(row_gaps(decision.paths, subset, decision.box, NOMINAL).min())
+    else:  # the regions as the decision judged them: its gaps, read
+        clearance = float(decision.object_gaps_m[mask, NOMINAL].min())
     return proximity_of(clearance, params)
