@@ -112,24 +112,13 @@ def contingency_decel_mps2(paths: PathSet, row: int, params: RegionParams) -> fl
     return min(params.contingency_decel_mps2, math.sqrt(max(0.0, paths.friction_mps2 ** 2 - lateral ** 2)))
 
 
-def first_contact(gaps: list[float]) -> int:
-    """The index of the first negative gap (-1: none). Scalar code (compiled, ``setup.py``): for a row of a few
-    poses cheaper than numpy's calls."""
-    for k, gap in enumerate(gaps):
-        if gap < 0.0:
-            return k
-    return -1
-
-
 def impact_speeds_mps(paths: PathSet, per_pose: np.ndarray) -> np.ndarray:
     """Per row: the speed at the start of the first box that touches an object (0 if none touches)."""
+    hit = per_pose < 0.0
     samples = per_pose.shape[1]
     stops: list[float] = paths.stop_m.tolist()
-    rows: list[list[float]] = per_pose.tolist()
-    firsts = [first_contact(row) for row in rows]
-    s_prev = [stop * (max(first, 0) / samples) for stop, first in zip(stops, firsts)]
-    speeds: list[float] = speed_at_mps(paths, s_prev).tolist()
-    return np.array([speed if first >= 0 else 0.0 for speed, first in zip(speeds, firsts)])
+    s_prev = [stop * (first / samples) for stop, first in zip(stops, hit.argmax(axis=1).tolist())]
+    return np.where(hit.any(axis=1), speed_at_mps(paths, s_prev), 0.0)
 
 
 def admissible_steering(paths: PathSet, box: Footprint, objects: ObjectSet, road: Road | None) -> np.ndarray:
