@@ -4,8 +4,9 @@ The in-process loop spends about a fifth of its time in ``ecu.core.step``; compi
 runs at 0.89 of d2cf42d's speed instead of 0.80 (``benchmarks/bench_inprocess.py``, 2026-12-02). The
 modules below are the core's functions; ``types``, ``params``, ``strategy`` (a runtime-checked
 ``Protocol``) and the strategies stay Python. The stopping region's evaluation (:data:`REGION`: numpy on
-whole arrays, its cost numpy's per-call overhead and the Python between the calls) is compiled in a group
-of its own, which saves about a fifth of ``decide`` (``benchmarks/bench_region.py``, 2026-12-02) and
+whole arrays, its cost numpy's per-call overhead and the Python between the calls) and the rules that read
+it every cycle (crossing vehicles, lane change, narrowing, reciprocal split, tightened bounds) are compiled in a
+group of its own, which saves about a fifth of ``decide`` (``benchmarks/bench_region.py``, 2026-12-02) and
 whose failure leaves the core's compiled. Set ``CRD_PURE_PYTHON=1`` to skip
 the compilation; if it fails (no C compiler), the install goes on with the same modules as Python
 and says so. Either way the results are the same (the golden tests run on whichever is installed).
@@ -25,7 +26,8 @@ CORE = [
     "steering", "planar",
 ]
 #: the stopping region's modules on the step's path (``ecu/core/region``), compiled in their own group
-REGION = ["region/objects", "region/paths", "region/overlap", "region/road", "region/decision"]
+REGION = ["region/objects", "region/paths", "region/overlap", "region/road", "region/decision", "region/crossing",
+          "region/lane_change", "region/narrowing", "region/reciprocal", "region/tightening"]
 #: mypyc's options: the core's imports (numpy, python-can, the DBC-built enums) are checked only as far as it uses
 #: them
 OPTIONS = ["--ignore-missing-imports", "--follow-imports=silent"]

@@ -40,7 +40,7 @@ from can_dbc.contract import enumeration
 
 from .decision import RegionDecision, proximity_of
 from .objects import ObjectSet, TrackBox
-from .overlap import gaps
+from .overlap import row_gaps
 from .params import RegionParams
 from .paths import NOMINAL
 from .reciprocal import reciprocal_mask
@@ -52,11 +52,14 @@ VEHICLE_CLASSES = frozenset(value for value, name in enumeration("RadarTrack0", 
 
 
 def crossing_mask(objects: ObjectSet, size_classes: Sequence[int]) -> np.ndarray:
-    """Which of ``objects`` (in the order of their tracks, whose classes are ``size_classes``) count."""
-    vehicle = np.array([c in VEHICLE_CLASSES for c in size_classes], dtype=bool)
-    across = np.abs(objects.axis.imag) >= math.sin(CROSSING_ANGLE_RAD)
-    toward = objects.centre.imag * objects.axis.imag <= 0.0
-    return objects.moving & vehicle & across & toward
+    """Which of ``objects`` (in the order of their tracks, whose classes are ``size_classes``) count. Scalar code
+    (compiled, ``setup.py``): for eight objects cheaper than numpy's calls."""
+    across_min = math.sin(CROSSING_ANGLE_RAD)
+    axes: list[complex] = objects.axis.tolist()
+    centres: list[complex] = objects.centre.tolist()
+    moving: list[bool] = objects.moving.tolist()
+    return np.array([m and c in VEHICLE_CLASSES and abs(u.imag) >= across_min and o.imag * u.imag <= 0.0
+                     for m, c, u, o in zip(moving, size_classes, axes, centres)], dtype=bool)
 
 
 #: a way-out rule: (the tracks' boxes, the tracks, our speed, the parameters) -> the tracks it tightens against
@@ -106,9 +109,11 @@ def crossing_proximity(decision: RegionDecision, tracks: Sequence[TrackBox], spe
         mask = mask | also
     if not mask.any():
         return 0.0
-    subset = ObjectSet(*(field[mask] for field in objects))
-    if path_ahead_m > 0.0:
+    if path_ahead_m > 0.0:  # the regions extended: the nominal row's gaps to them worked out
+        subset = ObjectSet(*(field[mask] for field in objects))
         subset = subset._replace(centre=subset.centre + 0.5 * path_ahead_m * subset.axis,
                                  half_length_m=subset.half_length_m + 0.5 * path_ahead_m)
-    clearance = float(gaps(decision.paths, subset, decision.box)[NOMINAL].min())
+        clearance = float(row_gaps(decision.paths, subset, decision.box, NOMINAL).min())
+    else:  # the regions as the decision judged them: its gaps, read
+        clearance = float(decision.object_gaps_m[mask, NOMINAL].min())
     return proximity_of(clearance, params)

@@ -23,7 +23,9 @@ every object, row and pose). When an object is :func:`within_reach` the steering
 with the base rows in one call (one evaluation of 16 rows costs less than two of 3 and 13), else only
 if rules 1 and 2 fail; either order gives the same decision (``tests/ecu/region/test_evaluation_order.py``).
 The driver's gaps to each object are kept (``driver_gaps_m``), so :mod:`ecu.core.planar` judges the
-driver's path over a subset of the tracks without a second evaluation (:func:`driver_disjoint_without`).
+driver's path over a subset of the tracks without a second evaluation (:func:`driver_disjoint_without`); so are
+every object's gaps to the decision's rows (``object_gaps_m``), which the crossing rule reads
+(:func:`ecu.core.region.crossing.crossing_proximity`).
 """
 
 from __future__ import annotations
@@ -74,6 +76,8 @@ class RegionDecision(NamedTuple):
     steering: bool = False
     #: per object and pose, the driver's row's gaps ``(K, M)`` (:func:`driver_disjoint_without`)
     driver_gaps_m: np.ndarray = np.empty((0, 0))
+    #: per object, row of ``paths`` and pose, the gaps ``(K, N, M)`` (:func:`ecu.core.region.overlap.object_gaps`)
+    object_gaps_m: np.ndarray = np.empty((0, 0, 0))
 
 
 def clearances(paths: PathSet, objects: ObjectSet, box: Footprint) -> tuple[np.ndarray, np.ndarray]:
@@ -83,13 +87,15 @@ def clearances(paths: PathSet, objects: ObjectSet, box: Footprint) -> tuple[np.n
 
 
 def separations(paths: PathSet, objects: ObjectSet, box: Footprint) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`clearances` and, per object and pose, the driver's row's gaps ``(K, M)`` (:func:`driver_disjoint_without`)."""
+    """:func:`clearances` and, per object, row and pose, the gaps ``(K, N, M)`` (:func:`driver_disjoint_without`
+    reads the driver's row's)."""
     if objects.centre.size == 0:
-        per_pose = np.full(paths.position.shape, np.inf)
-        return per_pose, per_pose[:, 0], per_pose[:0]  # no objects: (0, M)
+        rows, poses = paths.position.shape
+        per_pose = np.full((rows, poses), np.inf)
+        return per_pose, per_pose[:, 0], np.empty((0, rows, poses))  # no objects: (0, N, M)
     g = object_gaps(paths, objects, box)
     per_pose = g.min(axis=0)
-    return per_pose, per_pose.min(axis=1), g[:, DRIVER]
+    return per_pose, per_pose.min(axis=1), g
 
 
 def proximity_of(clearance_m: float, params: RegionParams) -> float:
@@ -126,17 +132,18 @@ def admissible_steering(paths: PathSet, box: Footprint, objects: ObjectSet, road
 def driver_disjoint_without(decision: RegionDecision, skip: int | None) -> bool:
     """Rule 1 over every object but the ``skip``-th (None: over all): the decision over a subset of the tracks,
     without a second evaluation (each object's box depends on its own track alone)."""
-    gaps = decision.driver_gaps_m if skip is None else np.delete(decision.driver_gaps_m, skip, axis=0)
-    return bool((gaps >= 0.0).all())
+    disjoint: list[bool] = np.logical_and.reduce(decision.driver_gaps_m >= 0.0, axis=1).tolist()  # per object
+    return all(ok for k, ok in enumerate(disjoint) if k != skip)
 
 
 class Evaluation(NamedTuple):
-    """Rows of a family, their footprint, and their clearances (:func:`clearances`)."""
+    """Rows of a family, their footprint, their clearances (:func:`clearances`) and every object's gaps to them."""
 
     paths: PathSet
     box: Footprint
     per_pose: np.ndarray
     clearance: np.ndarray
+    gaps: np.ndarray
 
     def rows(self, rows: slice) -> Evaluation:
         """The ``rows`` of every field."""
@@ -145,7 +152,7 @@ class Evaluation(NamedTuple):
                         p.hold_speed_mps[rows], p.stop_m[rows], p.feasible[rows], p.position[rows], p.heading[rows],
                         p.friction_mps2)
         return Evaluation(paths, Footprint(box.mid_x_m[rows], box.half_x_m[rows], box.half_y_m[rows]),
-                          self.per_pose[rows], self.clearance[rows])
+                          self.per_pose[rows], self.clearance[rows], self.gaps[:, rows])
 
 
 def within_reach(ego: EgoState, boxes: Sequence[tuple[float, ...]], params: RegionParams) -> bool:
@@ -167,18 +174,19 @@ def evaluate(ego: EgoState, road_curvature_1pm: float, objects: ObjectSet, param
     """The family's (base, steering) ``rows`` evaluated against the objects, and the driver's per-object gaps."""
     paths = path_family(ego, road_curvature_1pm, params, base=rows[0], steering=rows[1])
     box = footprint(paths, params)
-    per_pose, clearance, driver_gaps = separations(paths, objects, box)
-    return Evaluation(paths, box, per_pose, clearance), driver_gaps
+    per_pose, clearance, gaps = separations(paths, objects, box)
+    return Evaluation(paths, box, per_pose, clearance, gaps), gaps[:, DRIVER]
 
 
 def _result(kind: Contingency, row: int, ctx: tuple, clearance: np.ndarray, impact: float,
             steering: bool = False) -> RegionDecision:
-    """The decision for ``row`` of ``ctx``'s paths; ``clearance[DRIVER]`` and the driver's distance from the base."""
-    paths, box, objects, params, base = ctx
+    """The decision for ``row`` of ``ctx``'s paths (with their footprint and every object's gaps to them);
+    ``clearance[DRIVER]`` and the driver's distance from the base."""
+    paths, box, gaps, params, base = ctx
     decel = 0.0 if kind is Contingency.DRIVER_PATH else contingency_decel_mps2(paths, row, params)
     return RegionDecision(kind, row, float(paths.curvature_1pm[row]), decel, float(clearance[row]), impact,
                           float(paths.stop_m[row]), base.driver_disjoint, base.driver_stopping_distance_m,
-                          base.proximity, paths, box, objects, steering, base.driver_gaps_m)
+                          base.proximity, paths, box, base.objects, steering, base.driver_gaps_m, gaps)
 
 
 def _steer_or_least_impact(steering: Evaluation, speeds: np.ndarray, lane: tuple[float, float],
@@ -188,7 +196,7 @@ def _steer_or_least_impact(steering: Evaluation, speeds: np.ndarray, lane: tuple
     params, base = ctx
     paths, box, clearance = steering.paths, steering.box, steering.clearance
     ok = admissible_steering(paths, box, base.objects, road)
-    result_ctx = (paths, box, base.objects, params, base)
+    result_ctx = (paths, box, steering.gaps, params, base)
     disjoint = ok & (clearance >= 0.0)
     if disjoint.any():
         row = int(np.argmax(np.where(disjoint, clearance, -np.inf)))
@@ -203,7 +211,7 @@ def _steer_or_least_impact(steering: Evaluation, speeds: np.ndarray, lane: tuple
 def _lane_least_impact(params: RegionParams, base: RegionDecision, lane: tuple[float, float]) -> RegionDecision:
     """Rule 4 on the lane row alone: braking in lane, its first contact's speed (``lane``: clearance, speed)."""
     clearance = np.full(base.paths.curvature_1pm.shape, lane[0])
-    return _result(Contingency.LEAST_IMPACT, LANE, (base.paths, base.box, base.objects, params, base),
+    return _result(Contingency.LEAST_IMPACT, LANE, (base.paths, base.box, base.object_gaps_m, params, base),
                    clearance, lane[1])
 
 
@@ -240,11 +248,12 @@ def decide_boxes(ego: EgoState, boxes: Sequence[tuple[float, ...]], road: Road |
     base = RegionDecision(Contingency.DRIVER_PATH, DRIVER, float(paths.curvature_1pm[DRIVER]), 0.0,
                           float(clearance[DRIVER]), 0.0, float(paths.stop_m[DRIVER]), driver_disjoint,
                           float(paths.stop_m[DRIVER]), proximity_of(float(clearance[NOMINAL]), params),
-                          paths, first.box, objects, False, driver_gaps)
+                          paths, first.box, objects, False, driver_gaps, first.gaps)
     if driver_disjoint:
         return base
     if clearance[LANE] >= 0.0 and paths.feasible[LANE]:
-        return _result(Contingency.BRAKE_IN_LANE, LANE, (paths, first.box, objects, params, base), clearance, 0.0)
+        return _result(Contingency.BRAKE_IN_LANE, LANE, (paths, first.box, first.gaps, params, base), clearance,
+                       0.0)
     if not steer[0]:
         return _lane_least_impact(params, base, (float(clearance[LANE]),
                                                  float(impact_speeds_mps(paths, first.per_pose)[LANE])))

@@ -94,11 +94,12 @@ def object_set(tracks: Sequence[TrackBox], ego_speed_mps: float, params: RegionP
 
 
 def boxes_as_set(boxes: Sequence[tuple[float, ...]]) -> ObjectSet:
-    """:func:`object_box` es as an :class:`ObjectSet`."""
-    rows = np.array(boxes, dtype=float).reshape(-1, 7)
-    centre = rows[:, 0:2].copy().view(complex).ravel()
-    axis = rows[:, 2:4].copy().view(complex).ravel()
-    return ObjectSet(centre, axis, np.conj(axis), rows[:, 4].copy(), rows[:, 5].copy(), rows[:, 6] > 0.0)
+    """:func:`object_box` es as an :class:`ObjectSet`: one array built per field from the boxes (for eight boxes
+    cheaper than one array of them cut into fields)."""
+    axis = np.array([complex(box[2], box[3]) for box in boxes], dtype=complex)
+    return ObjectSet(np.array([complex(box[0], box[1]) for box in boxes], dtype=complex), axis, np.conj(axis),
+                     np.array([box[4] for box in boxes], dtype=float), np.array([box[5] for box in boxes], dtype=float),
+                     np.array([box[6] > 0.0 for box in boxes], dtype=bool))
 
 
 def corners(objects: ObjectSet) -> np.ndarray:

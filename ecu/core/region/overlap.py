@@ -94,6 +94,14 @@ def object_gaps(paths: PathSet, objects: ObjectSet, box: Footprint) -> np.ndarra
     return np.maximum(gx, gy, out=gx)
 
 
+def row_gaps(paths: PathSet, objects: ObjectSet, box: Footprint, row: int) -> np.ndarray:
+    """:func:`object_gaps` of the one ``row``, shape ``(K, M)``: the same values (each is computed alone), for the
+    work of one row."""
+    one = slice(row, row + 1)
+    return object_gaps(paths._replace(position=paths.position[one], heading=paths.heading[one]), objects,
+                       Footprint(box.mid_x_m[one], box.half_x_m[one], box.half_y_m[one]))[:, 0]
+
+
 def corner_points(paths: PathSet, box: Footprint) -> np.ndarray:
     """The corners (front left, rear left, rear right, front right) of every footprint box as complex points,
     shape ``(N, M, 4)`` (road test, drawing)."""

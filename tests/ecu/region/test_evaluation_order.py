@@ -1,13 +1,18 @@
 """The cheaper evaluations give the decisions of the plain ones: the steering rows built with the base rows or
-after them, and the driver's path over a subset of the tracks read from the decision over all of them."""
+after them, the driver's path over a subset of the tracks read from the decision over all of them, and the
+crossing rule's nominal gaps read from the decision (or worked out for its row alone) instead of a second
+separation."""
 
 import numpy as np
 import pytest
 
 from ecu.core import CoreParams
 from ecu.core.region import EgoState, Road, TrackBox, decide, region_params
-from ecu.core.region.decision import decide_boxes, driver_disjoint_without
-from ecu.core.region.objects import object_box
+from ecu.core.region.crossing import crossing_proximity
+from ecu.core.region.decision import decide_boxes, driver_disjoint_without, proximity_of
+from ecu.core.region.objects import ObjectSet, object_box
+from ecu.core.region.overlap import gaps, row_gaps
+from ecu.core.region.paths import NOMINAL
 
 P = region_params(CoreParams())
 ROAD = Road((-5.25, -1.75, 1.75, 5.25))
@@ -29,7 +34,7 @@ def _scenes(count, seed):
 def _fields(d):
     """Every field of a decision, arrays as lists."""
     return [np.asarray(f).tolist() if isinstance(f, np.ndarray) else f
-            for f in (*d[:10], *d.paths, *d.box, *d.objects, d.steering, d.driver_gaps_m)]
+            for f in (*d[:10], *d.paths, *d.box, *d.objects, d.steering, d.driver_gaps_m, d.object_gaps_m)]
 
 
 def test_steering_rows_built_with_the_base_rows_or_after_them_decide_alike():
@@ -54,3 +59,32 @@ def test_the_drivers_path_over_all_tracks_but_one_is_read_from_the_decision_over
             assert driver_disjoint_without(d, skip) == alone
             checked[alone] += 1
     assert min(checked.values()) > 20
+
+
+def _separated_proximity(d, mask, path_ahead_m):
+    """The crossing rule's proximity by a second separation of every row (as before the decision kept its gaps)."""
+    subset = ObjectSet(*(field[mask] for field in d.objects))
+    if path_ahead_m > 0.0:
+        subset = subset._replace(centre=subset.centre + 0.5 * path_ahead_m * subset.axis,
+                                 half_length_m=subset.half_length_m + 0.5 * path_ahead_m)
+    return proximity_of(float(gaps(d.paths, subset, d.box)[NOMINAL].min()), P)
+
+
+@pytest.mark.parametrize("path_ahead_m", [0.0, 12.0])
+def test_the_crossing_rules_gaps_read_from_the_decision_are_a_second_separations(path_ahead_m):
+    rng, kinds, near = np.random.default_rng(7), set(), 0
+    for ego, tracks in _scenes(120, seed=8):
+        d = decide(ego, tracks, ROAD, P)
+        assert d.object_gaps_m.shape == (len(tracks), *d.paths.position.shape)
+        for row in range(len(d.paths.curvature_1pm)):
+            assert row_gaps(d.paths, d.objects, d.box, row).tolist() == gaps(d.paths, d.objects, d.box)[row].T.tolist()
+        mask = rng.random(len(tracks)) < 0.7
+        if not mask.any():
+            continue
+        # tracks of no vehicle class: none is a crossing vehicle, so "also" alone selects the objects
+        got = crossing_proximity(d, [TrackBox(0.0, 0.0, 0.0, 0.0, 0)] * len(tracks), ego.speed_mps, P, "none",
+                                 path_ahead_m, mask)
+        assert got == _separated_proximity(d, mask, path_ahead_m)
+        kinds.add(d.kind.name)
+        near += got > 0.0
+    assert kinds == {"DRIVER_PATH", "BRAKE_IN_LANE", "STEER_AND_BRAKE", "LEAST_IMPACT"} and near > 20
