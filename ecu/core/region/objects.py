@@ -13,7 +13,13 @@ centre anywhere within ``c +- h``, so the box is widened by ``h`` on that axis (
 box the report allows).
 
 **Standing** (speed over ground ``|v_rel + (v_ego, 0)| <=`` ``moving_object_speed_mps``, as the 1-D
-core): its box, aligned with the ego (a standing object's heading is not measured).
+core): its box. Its heading is not measured, so it is taken as the road's where it stands
+(:func:`standing_heading_rad`: parked and queued vehicles stand along the road; without a road, the
+ego's heading), and the nearest point is placed in the box's own axes: the nearest point of a box to
+the sensor is the sensor's position clamped into the box in those axes, per axis either on the face
+toward the sensor or, within ``k sigma`` of the sensor's own coordinate, anywhere along that face.
+Placed in the ego's axes instead, a car parked on the outside of a curve, turned with the road,
+reports its corner near the bore sight and was widened across our lane.
 **Moving**: the stopping region of :class:`ecu.core.region.params.ClassCapability`: the box swept
 along its velocity ``phi = atan2(v_y, v_x)`` over ``s = v^2 / (2 d_c)``, widened on each side by
 ``min(y_max, a_lat t^2 / 2)``, ``t = v / d_c``. A region is a union over time, so an object that
@@ -33,6 +39,7 @@ from typing import NamedTuple, Sequence
 import numpy as np
 
 from .params import CAPABILITIES, RegionParams
+from .road import Road
 
 
 class TrackBox(NamedTuple):
@@ -65,30 +72,55 @@ def _place(c: float, h: float, tol: float) -> tuple[float, float]:
     return c, h
 
 
-def object_box(track: TrackBox, ego_speed_mps: float, params: RegionParams) -> tuple[float, ...]:
-    """(x, y, cos, sin, half length, half width, moving) of one track (module docstring); scalar code:
-    for eight tracks it is faster than numpy's per-call overhead."""
+def standing_heading_rad(x_m: float, y_m: float, road: Road | None) -> float:
+    """The heading (relative to the ego) of the road at the point ``(x, y)`` of the rear-axle frame: of the
+    reference line through the rear axle (heading ``psi``, curvature ``kappa``, :class:`~ecu.core.region.road.Road`)
+    at the point's radial projection, ``psi + atan2(kappa t, 1 - kappa n)`` with ``(t, n)`` the point in the line's
+    axes at the rear axle (exact on the circle; ``psi`` on a straight line); 0 without a road."""
+    if road is None:
+        return 0.0
+    c, s = math.cos(road.heading_rad), math.sin(road.heading_rad)
+    t, n = x_m * c + y_m * s, y_m * c - x_m * s
+    return road.heading_rad + math.atan2(road.curvature_1pm * t, 1.0 - road.curvature_1pm * n)
+
+
+def standing_box(track: TrackBox, params: RegionParams, road: Road | None) -> tuple[float, ...]:
+    """:func:`object_box` of a standing track: its box along the road where it stands, placed in its own axes."""
+    x, y, _, _, size_class, sigma = track
+    cap = CAPABILITIES.get(size_class, CAPABILITIES[0])
+    a, b, tol = 0.5 * cap.length_m, 0.5 * cap.width_m, params.sigma_factor * sigma
+    heading = standing_heading_rad(x + params.rear_axle_to_front_m, y, road)
+    c, s = math.cos(heading), math.sin(heading)
+    cu, wu = _place(x * c + y * s, a, tol)
+    cw, ww = _place(y * c - x * s, b, tol)
+    return (cu * c - cw * s + params.rear_axle_to_front_m, cu * s + cw * c, c, s, a + wu + tol, b + ww + tol, 0.0)
+
+
+def object_box(track: TrackBox, ego_speed_mps: float, params: RegionParams,
+               road: Road | None = None) -> tuple[float, ...]:
+    """(x, y, cos, sin, half length, half width, moving) of one track (module docstring); a standing one along the
+    ``road`` (:func:`standing_box`). Scalar code: for eight tracks it is faster than numpy's per-call overhead."""
     x, y, vx, vy, size_class, sigma = track
     length, width, decel, lat, reach = CAPABILITIES.get(size_class, CAPABILITIES[0])
     vx += ego_speed_mps
     speed = math.hypot(vx, vy)
-    moving = speed > params.moving_object_speed_mps
-    c, s = (vx / speed, vy / speed) if moving else (1.0, 0.0)
+    if speed <= params.moving_object_speed_mps:
+        return standing_box(track, params, road)
+    c, s = vx / speed, vy / speed
     a, b, ac, as_ = 0.5 * length, 0.5 * width, abs(c), abs(s)
     tol = params.sigma_factor * sigma
     cx, wx = _place(x, a * ac + b * as_, tol)
     cy, wy = _place(y, a * as_ + b * ac, tol)
-    sweep = side = 0.0
-    if moving:
-        sweep = speed * speed / (2.0 * decel)
-        side = min(reach, 0.5 * lat * (speed / decel) ** 2)
+    sweep = speed * speed / (2.0 * decel)
+    side = min(reach, 0.5 * lat * (speed / decel) ** 2)
     return (cx + 0.5 * sweep * c + params.rear_axle_to_front_m, cy + 0.5 * sweep * s, c, s,
-            a + wx * ac + wy * as_ + 0.5 * sweep + tol, b + wx * as_ + wy * ac + side + tol, float(moving))
+            a + wx * ac + wy * as_ + 0.5 * sweep + tol, b + wx * as_ + wy * ac + side + tol, 1.0)
 
 
-def object_set(tracks: Sequence[TrackBox], ego_speed_mps: float, params: RegionParams) -> ObjectSet:
+def object_set(tracks: Sequence[TrackBox], ego_speed_mps: float, params: RegionParams,
+               road: Road | None = None) -> ObjectSet:
     """The boxes of every track: standing boxes and moving stopping regions, inflated (module docstring)."""
-    return boxes_as_set([object_box(t, ego_speed_mps, params) for t in tracks])
+    return boxes_as_set([object_box(t, ego_speed_mps, params, road) for t in tracks])
 
 
 def boxes_as_set(boxes: Sequence[tuple[float, ...]]) -> ObjectSet:
