@@ -18,10 +18,11 @@ difference) against the footprint; the gap is the larger of the two axis gaps::
     g = max(|l_x - m_x| - w_x - h_x,  |l_y| - w_y - h_y)
 
 ``(l_x, l_y)`` the object's centre in the pose's frame, ``m_x, w_x`` the footprint's middle and
-half length, ``w_y`` its half width. This is the separating-axis test on the pose's two axes: an
-object's axes are not tried, so a box turned against the ego counts by its bounding box in the
-ego's axes (conservative; exact when the two are aligned, as in the 1-D case, where
-``g = r - d - standoff``). ``g >= 0``: disjoint; the clearance of a path is its smallest ``g``.
+half length, ``w_y`` its half width. This is the separating-axis test on the pose's two axes; where it
+does not separate (``g < 0``), the object's two axes are tried too (:func:`_object_axes`), so the verdict
+is the full test's, exact for two boxes, while a positive ``g`` stays the two-axis value (exact when the
+two are aligned, as in the 1-D case, where ``g = r - d - standoff``). ``g >= 0``: disjoint; the clearance
+of a path is its smallest ``g``.
 """
 
 from __future__ import annotations
@@ -91,7 +92,26 @@ def object_gaps(paths: PathSet, objects: ObjectSet, box: Footprint) -> np.ndarra
     gy -= box.half_y_m[..., 0]
     gy -= a * rs
     gy -= b * rc
-    return np.maximum(gx, gy, out=gx)
+    g = np.maximum(gx, gy, out=gx)
+    if g.min(initial=0.0) < 0.0:
+        _object_axes(g, local - box.mid_x_m[..., 0], turn, (a, b), box)
+    return g
+
+
+def _object_axes(g: np.ndarray, offset: np.ndarray, turn: np.ndarray, half: tuple[np.ndarray, np.ndarray],
+                 box: Footprint) -> None:
+    """Where ``g < 0``, the separating-axis test's other two axes, the object's: ``g = max(g, g_u, g_w)`` with the
+    footprint box projected on them (``offset``: the object's centre from the box's middle, pose axes; ``turn``: the
+    pose's heading in the object's axes; ``half``: the object's half extents). Only where the pose's axes do not
+    separate, so every disjoint gap, and every clearance and proximity built on them, is the two-axis test's; a
+    long box turned against the pose (a parked car beside us, widened along its side) no longer touches a
+    footprint its own axes separate it from."""
+    local = offset * turn
+    rc, rs = np.abs(turn.real), np.abs(turn.imag)
+    fx, fy = box.half_x_m[..., 0], box.half_y_m[..., 0]
+    gu = np.abs(local.real) - half[0] - fx * rc - fy * rs
+    gw = np.abs(local.imag) - half[1] - fx * rs - fy * rc
+    np.maximum(g, np.where(g < 0.0, np.maximum(gu, gw), g), out=g)
 
 
 def corner_points(paths: PathSet, box: Footprint) -> np.ndarray:

@@ -53,7 +53,18 @@ def _sat_overlap(a, b):
     return True
 
 
-def test_separation_is_negative_for_every_overlap_and_exact_when_aligned():
+def _two_axis_gaps(paths, objects, box):
+    """Reference: the separation on the pose's two axes alone (the test before the object's axes), ``(N, M, K)``."""
+    local = (objects.centre[None, None, :] - paths.position[..., None]) * np.conj(paths.heading[..., None])
+    turn = objects.axis_conj[None, None, :] * paths.heading[..., None]
+    rc, rs = np.abs(turn.real), np.abs(turn.imag)
+    a, b = objects.half_length_m, objects.half_width_m
+    gx = np.abs(local.real - box.mid_x_m) - box.half_x_m - a * rc - b * rs
+    gy = np.abs(local.imag) - box.half_y_m - a * rs - b * rc
+    return np.maximum(gx, gy)
+
+
+def test_separation_is_negative_exactly_for_the_overlaps_and_exact_when_aligned():
     rng = np.random.default_rng(7)
     paths = path_family(EgoState(15.0, 0.0, 8.1, yaw_rate_radps=0.3), 0.0, P)
     box = footprint(paths, P)
@@ -74,7 +85,11 @@ def test_separation_is_negative_for_every_overlap_and_exact_when_aligned():
                 assert g[n, m, i] < 0.0
             else:
                 separated += 1
+                assert g[n, m, i] >= 0.0  # the object's axes separate what the pose's do not
     assert overlaps > 20 and separated > 20
+    two_axis = _two_axis_gaps(paths, objects, box)
+    assert np.array_equal(g[two_axis >= 0.0], two_axis[two_axis >= 0.0])  # disjoint gaps: the two-axis test's
+    assert ((g >= 0.0) & (two_axis < 0.0)).sum() > 20  # and some the pose's axes alone counted as touching
     aligned = ObjectSet(np.array([30.0 + 0.5j]), np.array([1 + 0j]), np.array([1 + 0j]), np.array([1.0]), np.array([0.5]),
                         np.array([False]))
     straight = path_family(EgoState(10.0, 0.0, 8.1), 0.0, P, steering=False)
