@@ -53,6 +53,31 @@ def _sat_overlap(a, b):
     return True
 
 
+@pytest.mark.parametrize("speed, yaw_rate", [(19.4, 0.179), (12.0, 0.2), (30.0, 0.05)])
+def test_footprint_growth_is_within_twice_the_bodys_excursion(speed, yaw_rate):
+    """The cover is not loose: the growth across is at most twice the widest excursion of the body's sides seen
+    from the pose over the motion since the previous one (the bound that added the front's and the rear's
+    worst terms was 2 to 3 times it)."""
+    ego = EgoState(speed, 0.0, 8.1, yaw_rate_radps=yaw_rate)
+    exact = region_params(CoreParams(), lateral_margin_m=0.0)
+    coarse = path_family(ego, 0.0, exact, steering=False)
+    box = footprint(coarse, exact)
+    dense_params = region_params(CoreParams(), path_samples=800)
+    dense = path_family(ego, 0.0, dense_params, steering=False)
+    half_w = 0.5 * P.width_m
+    xs = np.linspace(P.rear_axle_to_front_m - P.length_m, P.rear_axle_to_front_m, 41)
+    body = np.array([complex(x, y) for x in xs for y in (-half_w, half_w)])
+    s_dense = coarse.stop_m[0] * dense_params.sample_fractions
+    for k in range(1, P.path_samples):
+        z, h = coarse.position[0, k], coarse.heading[0, k]
+        spacing = coarse.stop_m[0] / P.path_samples
+        since = (s_dense >= spacing * k - 1e-9) & (s_dense <= spacing * (k + 1) + 1e-9)
+        points = (dense.position[0, since, None] + dense.heading[0, since, None] * body - z) * np.conj(h)
+        excursion = np.abs(points.imag).max() - half_w
+        grow = box.half_y_m[0, 0, 0] - half_w
+        assert excursion <= grow + 1e-9 and grow <= 2.0 * excursion
+
+
 def _two_axis_gaps(paths, objects, box):
     """Reference: the separation on the pose's two axes alone (the test before the object's axes), ``(N, M, K)``."""
     local = (objects.centre[None, None, :] - paths.position[..., None]) * np.conj(paths.heading[..., None])
