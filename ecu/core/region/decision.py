@@ -224,7 +224,7 @@ def decide(ego: EgoState, tracks: Sequence[TrackBox], road: Road | None, params:
     """The rules of the module docstring; the steering rows only with ``steer`` (steering authority), judged only
     when rules 1 and 2 fail, and built with the base rows (one evaluation costs less than two) when an object
     is :func:`within_reach`, else after them when needed (:func:`decide_boxes`). A standing track's box stands
-    along the ``road`` (:func:`ecu.core.region.objects.standing_box`)."""
+    along the ``road`` (:func:`ecu.core.region.objects.standing_heading_rad`)."""
     boxes = [object_box(track, ego.speed_mps, params, road) for track in tracks]
     return decide_boxes(ego, boxes, road, params, (steer, steer and within_reach(ego, boxes, params)))
 

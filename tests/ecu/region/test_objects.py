@@ -8,7 +8,7 @@ import pytest
 from can_dbc.contract import enumeration
 from ecu.core import CoreParams
 from ecu.core.region import CAPABILITIES, Road, TrackBox, region_params
-from ecu.core.region.objects import corners, object_set, standing_heading_rad
+from ecu.core.region.objects import ObjectSet, corners, object_set, standing_heading_rad
 
 P = region_params(CoreParams())
 CLASS = {name: value for value, name in enumeration("RadarTrack0", "Track0SizeClass").items()}
@@ -74,6 +74,50 @@ def test_a_car_parked_along_a_curve_is_placed_along_the_road_not_across_our_lane
     ego_axes = object_set([track], 10.0, P)
     wrong = ego_axes.centre[0].imag - ego_axes.half_width_m[0] > min(c.imag for c in true)
     assert ego_axes.half_width_m[0] > 0.85 + 0.85 or wrong
+
+
+@pytest.mark.parametrize("theta, y", [(math.pi - 0.2, -1.5), (math.pi - 0.2, 0.0), (0.3, 2.0), (-1.2, 4.0)])
+def test_a_turned_moving_car_is_placed_in_its_own_axes(theta, y):
+    """A car heading ``theta`` (an oncoming one in a curve, one cutting in, one crossing), its box's point nearest
+    the sensor as the track: its region holds the true box, which is not widened across (the ego's axes widened
+    the oncoming car with its corner near the bore sight, and placed it 1.7 m toward our lane, measured)."""
+    axis = complex(math.cos(theta), math.sin(theta))
+    centre = complex(30.0 + R, y)
+    local = (R - centre) * axis.conjugate()
+    nearest = centre + axis * complex(min(2.0, max(-2.0, local.real)), min(0.85, max(-0.85, local.imag)))
+    velocity = 12.0 * axis - 10.0  # over ground 12 m/s along theta, relative to the ego at 10 m/s
+    track = TrackBox(nearest.real - R, nearest.imag, velocity.real, velocity.imag, CLASS["CAR"], 0.17)
+    objects = object_set([track], 10.0, P)
+    cap, tol = CAPABILITIES[CLASS["CAR"]], 3 * 0.17
+    side = min(cap.lateral_reach_max_m, 0.5 * cap.lateral_accel_mps2 * (12.0 / cap.decel_mps2) ** 2)
+    assert objects.axis[0] == pytest.approx(axis)
+    assert objects.half_width_m[0] == pytest.approx(0.85 + side + tol)
+    true = np.array([centre + axis * complex(i * 2.0, j * 0.85) for i in (-1, 1) for j in (-1, 1)])
+    inside = (true - objects.centre[0]) * objects.axis_conj[0]
+    assert (np.abs(inside.real) <= objects.half_length_m[0] + 1e-9).all()
+    assert (np.abs(inside.imag) <= objects.half_width_m[0] + 1e-9).all()
+    # its region starts at its box: the box's rear (along theta) within the inflation of the true rear
+    rear = objects.centre[0] - objects.axis[0] * objects.half_length_m[0]
+    assert abs((rear - (centre - 2.0 * axis)) * axis.conjugate()) == pytest.approx(tol, abs=1e-9)
+
+
+def _covers(objects: ObjectSet, points: np.ndarray) -> bool:
+    inside = (points - objects.centre[0]) * objects.axis_conj[0]
+    return bool((np.abs(inside.real) <= objects.half_length_m[0]).all()
+                and (np.abs(inside.imag) <= objects.half_width_m[0]).all())
+
+
+@pytest.mark.parametrize("x", [7.7, 15.0, 30.0])
+def test_a_crossing_car_with_its_heading_a_little_off_still_spans_our_axis(x):
+    """A car crossing ahead, its side across our bore sight (nearest point (x, 0)), its velocity over ground 0.5 m/s
+    off along our axis (the radar's relative velocity is a latency old, the ego's speed this cycle's): placed in the
+    axes of that heading, 5 degrees off, the point lay 0.7 to 2.7 m from its side's middle and the car was put beside
+    our axis, its region missing the true box; the heading's uncertainty keeps it across, over the true box."""
+    ego_speed, track = 4.1, TrackBox(x, 0.0, 0.5 - 4.1, 5.5, CLASS["CAR"], 0.17)
+    centre = complex(x + 0.85 + R, 0.0)  # the true car: heading 90 degrees, its right side at x
+    true = np.array([centre + 1j * complex(i * 2.0, j * 0.85) for i in (-1, 1) for j in (-1, 1)])
+    assert _covers(object_set([track], ego_speed, P), true)
+    assert not _covers(object_set([track], ego_speed, region_params(CoreParams(), velocity_tolerance_mps=0.0)), true)
 
 
 def test_moving_object_occupies_its_stopping_region_along_its_velocity():
