@@ -57,8 +57,8 @@ def _sat_overlap(a, b):
 def test_footprint_growth_is_within_twice_the_bodys_excursion(speed, yaw_rate):
     """The cover is not loose: the growth across is at most twice the widest excursion of the body's sides seen
     from the pose over the motion since the previous one (the bound that added the front's and the rear's
-    worst terms was 2 to 3 times it)."""
-    ego = EgoState(speed, 0.0, 8.1, yaw_rate_radps=yaw_rate)
+    worst terms was more than twice it)."""
+    ego = EgoState(speed, 0.0, 8.1, yaw_rate, math.atan(yaw_rate / speed * P.wheelbase_m))  # on a circle
     exact = region_params(CoreParams(), lateral_margin_m=0.0)
     coarse = path_family(ego, 0.0, exact, steering=False)
     box = footprint(coarse, exact)
