@@ -24,9 +24,10 @@ The tolerance ``k sigma`` grows by ``r sin(d_phi)`` for a moving object, ``r`` t
 ``sin(d_phi) = min(1, v_tol / v)`` the uncertainty of its heading from that of its velocity over ground
 (``velocity_tolerance_mps``: the radar's relative velocity is a latency old, the ego's speed this cycle's):
 a turn of the axes by ``d_phi`` about the sensor moves the point that much in them (a car crossing just
-ahead of a braking ego, its heading 5 degrees off, showed its nearest point 0.7 m off its side's middle
-and was put beside our axis instead of across it); it decides the placement, the inflation stays
-``k sigma``. A standing object's heading is taken as exact.
+ahead, its heading 5 degrees off, showed its nearest point 0.7 m off its side's middle and was put
+beside our axis instead of across it, its region missing part of it:
+``tests/ecu/region/test_objects.py``); it decides the placement, the inflation stays ``k sigma``. A
+standing object's heading is taken as exact.
 **Moving**: heading along its velocity ``phi = atan2(v_y, v_x)``, it occupies the stopping region of
 :class:`ecu.core.region.params.ClassCapability`: the box swept along ``phi`` over ``s = v^2 / (2 d_c)``,
 widened on each side by ``min(y_max, a_lat t^2 / 2)``, ``t = v / d_c``. A region is a union over time,
