@@ -231,7 +231,8 @@ class CoreParams:
         0.5, unit="m/s", allowed=Range(0.0, 20.0),
         doc="the stopping region counts a RadarTrack as moving above moving_object_speed_mps plus this: its relative "
             "velocity is the radar's, a radar latency old (0.1 s), while the ego's speed is this cycle's; at the "
-            "driver's 5 m/s^2 they are 0.5 m/s apart (measured: a car parked beside a curve read 0.51 m/s)")
+            "driver's 5 m/s^2 they are 0.5 m/s apart (measured: a car parked beside a curve read 0.51 m/s); and "
+            "a moving track's heading is this uncertain when its box is placed (ecu/core/region/objects.py)")
     lane_width_m: float = setting(
         3.5, unit="m", allowed=Range(2.0, 6.0, low_open=True),
         doc="the ECU perceives no lanes (none on the contract): it assumes its own lane this wide, centred on it, "

@@ -12,7 +12,8 @@ planar tracks in the inputs (``RadarTrack`` slots; none: this module does nothin
 3. **Road**: the contract carries no lanes, so the ECU assumes its own (``lane_width_m``, centred
    on the ego, following its current curvature) and ``free_lanes_left`` / ``free_lanes_right``
    beside it (:func:`assumed_road`); a steering path stays within them and out of any holding a
-   track's centre (UN R79 ESF, :mod:`ecu.core.region.road`).
+   track's centre (UN R79 ESF, :mod:`ecu.core.region.road`); a standing track's box stands along it
+   (:func:`ecu.core.region.objects.standing_heading_rad`).
 4. **Decision** over every track (:func:`ecu.core.region.decide`), steering rows only with
    ``steering_authority``: reported in ``EcuRegionStatus`` and, in a contingency, the steering
    path (:mod:`ecu.core.steering`).

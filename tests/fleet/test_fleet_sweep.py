@@ -1,7 +1,7 @@
 """``crd sweep`` over a fleet scene (issue 23 item 8): axis paths into the fleet file, the dance columns, the
 same rows on one worker and on two, one-line errors for a bad path, the maps of collision rate and deadlock.
 
-The Dask part runs 4 short crossings (8 s simulated) twice: about 30 s on 2 cores.
+The Dask part runs 4 short crossings with human drivers (8 s simulated) twice: about 30 s on 2 cores.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from cosim.world.fmu_share import file_sha256
 SMALL = """
 [sweep]
 name = "small_dance"
-fleet = "crossing"
+fleet = "crossing_reacting"
 seed = 3
 
 [[axis]]
@@ -81,7 +81,7 @@ def test_rows_carry_the_dance_figures_and_the_axis_values(small) -> None:
         assert r["collided"] == (r["collisions"] > 0) and r["end_time_s"] <= 8.0
         assert (r["impact_speed_mps"] is not None) == r["collided"]
         assert r["all_cleared"] == (r["all_cleared_s"] is not None) and r["deadlock_s"] >= 0.0
-    # the scene as crd fleet crossing knows it: without tightening the simultaneous arrival collides
+    # the scene as crd fleet crossing_reacting knows it: without tightening the simultaneous arrival collides
     same_time = {r["strategy"]: r for r in rows if r["vehicles[1].y_m"] == -40.0}
     assert same_time["none"]["collided"] and not same_time["tightening"]["collided"]
 

@@ -25,16 +25,16 @@ from cosim.results.birdseye_video import MODE_COLORS, VideoOptions
 
 @pytest.fixture(scope="module")
 def fleet_run(tmp_path_factory):
-    """The crossing under the plain method: both cars brake, accelerate again and touch at about 6.1 s."""
-    out = tmp_path_factory.mktemp("fleet_video") / "crossing"
-    assert crd(["fleet", "crossing", "--strategy", "none", "--out", str(out)]) == 3
+    """The crossing with human drivers under the plain method: both cars brake too late and touch at 3.77 s."""
+    out = tmp_path_factory.mktemp("fleet_video") / "crossing_reacting"
+    assert crd(["fleet", "crossing_reacting", "--strategy", "none", "--out", str(out)]) == 3
     return out
 
 
 def test_the_scene_file_is_written_and_reads_back_in_world_coordinates(fleet_run):
     scene = read_fleet_scene(fleet_run / FLEET_SCENE_FILE)
     assert [c.name for c in scene.cars] == ["west", "south"]
-    assert scene.conflict == (0.0, 0.0, 6.0) and scene.name == "crossing"
+    assert scene.conflict == (0.0, 0.0, 6.0) and scene.name == "crossing_reacting"
     west, south = scene.cars
     assert (south.frame.x_m, south.frame.y_m, south.frame.heading_rad) == (0.0, -40.0, pytest.approx(np.pi / 2))
     assert west.body.length_m > 4.0 and west.body.width_m > 1.5
@@ -87,14 +87,14 @@ def test_every_car_s_stopping_path_is_drawn_ahead_of_it_in_the_world(fleet_run):
 
 def test_crd_animate_writes_the_fleet_mp4_gif_and_still(fleet_run, capsys):
     last_t = load_fleet_view(fleet_run).t_s[-1]
-    assert last_t == pytest.approx(6.09)
-    assert crd(["animate", str(fleet_run), "--hold-s", "0.4", "--at-s", "5.0"]) == 0
+    assert last_t == pytest.approx(3.77)
+    assert crd(["animate", str(fleet_run), "--hold-s", "0.4", "--at-s", "3.0"]) == 0
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(fleet_run / "fleet.mp4"))
     assert frames == int(np.floor(last_t * 25 + 1e-9)) + 1 + 10
     with Image.open(fleet_run / "fleet.png") as png:
         assert png.size == (1280, 720)
     out = capsys.readouterr().out
-    assert f"fleet.mp4 ({frames} frames, 1280x720, 25 fps)" in out and "fleet.png (t = 5.00 s)" in out
+    assert f"fleet.mp4 ({frames} frames, 1280x720, 25 fps)" in out and "fleet.png (t = 3.00 s)" in out
 
     assert crd(["animate", str(fleet_run), "--gif", "--no-png", "--hold-s", "0"]) == 0
     with Image.open(fleet_run / "fleet.gif") as gif:

@@ -40,7 +40,8 @@ from ..stopping_path import stopping_distance_m
 from .objects import ObjectSet, TrackBox, boxes_as_set, object_box
 from .overlap import Footprint, corner_points, footprint, object_gaps, speed_at_mps
 from .params import GRAVITY_MPS2, RegionParams
-from .paths import DRIVER, FIRST_STEER, LANE, NOMINAL, EgoState, PathSet, current_curvature, path_family
+from .paths import (DRIVER, FIRST_STEER, LANE, NOMINAL, EgoState, PathSet, current_curvature, driver_curvature,
+                    path_family)
 from .road import Road, allowed_span, lateral_offsets, on_road
 
 
@@ -165,7 +166,8 @@ def within_reach(ego: EgoState, boxes: Sequence[tuple[float, ...]], params: Regi
     friction = min(ego.decel_mps2, ego.friction_mu * GRAVITY_MPS2)
     ahead = (stopping_distance_m(ego.speed_mps, params.driver_max_accel_mps2, params.hold_time_s, friction)
              + params.rear_axle_to_front_m + params.standoff_m)
-    across = params.width_m + 0.5 * abs(current_curvature(ego, params)) * ahead * ahead
+    curvature = max(abs(current_curvature(ego, params)), abs(driver_curvature(ego, params)))
+    across = params.width_m + 0.5 * curvature * ahead * ahead
     return any(x - (a + b) < ahead and abs(y) - (a + b) < across for x, y, _, _, a, b, _ in boxes)
 
 
@@ -231,8 +233,9 @@ def decide(ego: EgoState, tracks: Sequence[TrackBox], road: Road | None, params:
            steer: bool = True) -> RegionDecision:
     """The rules of the module docstring; the steering rows only with ``steer`` (steering authority), judged only
     when rules 1 and 2 fail, and built with the base rows (one evaluation costs less than two) when an object
-    is :func:`within_reach`, else after them when needed (:func:`decide_boxes`)."""
-    boxes = [object_box(track, ego.speed_mps, params) for track in tracks]
+    is :func:`within_reach`, else after them when needed (:func:`decide_boxes`). A standing track's box stands
+    along the ``road`` (:func:`ecu.core.region.objects.standing_heading_rad`)."""
+    boxes = [object_box(track, ego.speed_mps, params, road) for track in tracks]
     return decide_boxes(ego, boxes, road, params, (steer, steer and within_reach(ego, boxes, params)))
 
 

@@ -5,21 +5,36 @@ point of the object's box nearest the sensor, in the ego's frame from the front 
 y left; the velocity relative to the ego; the DBC size class) plus its position's standard
 deviation ``sigma_m``.
 
-**Box from the nearest point.** Per ego axis with coordinate ``c`` and the box's half extent ``h`` on
-that axis (``h_x = a|cos phi| + b|sin phi|``, ``h_y = a|sin phi| + b|cos phi|``, ``a, b`` half length
-and width, ``phi`` its heading): if ``|c| > k sigma`` the nearest point lies on the face toward
-the ego and the centre is ``c + sign(c) h``; otherwise the face spans the sensor's axis and the
-centre anywhere within ``c +- h``, so the box is widened by ``h`` on that axis (the union of every
-box the report allows).
+**Box from the nearest point**, in the box's own axes (heading ``phi``; ``a, b`` half length and
+width): the nearest point of a box to the sensor is the sensor's position clamped into the box in
+those axes, so per axis, with the nearest point's coordinate ``c`` there and the half extent ``h``: if
+``|c| > k sigma`` the point lies on the face toward the sensor and the centre is ``c + sign(c) h``;
+otherwise the face spans the sensor's axis and the centre lies anywhere within ``c +- h``, so the box
+is widened by ``h`` on that axis (the union of every box the report allows). This is exact for the
+box, whatever its heading; in the ego's axes, with the turned box's bounding extents, it was not: a
+car parked on the outside of a curve, turned with the road, or an oncoming car in it showed a corner
+near the bore sight and was widened across our lane, and a little further on put on the wrong side of
+that corner.
 
 **Standing** (speed over ground ``|v_rel + (v_ego, 0)| <=`` ``moving_object_speed_mps``, as the 1-D
-core): its box, aligned with the ego (a standing object's heading is not measured).
-**Moving**: the stopping region of :class:`ecu.core.region.params.ClassCapability`: the box swept
-along its velocity ``phi = atan2(v_y, v_x)`` over ``s = (v + a rho / 2) rho + v_rho^2 / (2 d_c)``,
-``v_rho = v + a rho`` (its response time ``rho`` at acceleration ``a``, then its braking), widened on each
-side by ``min(y_max, a_lat t^2 / 2)``, ``t = rho + v_rho / d_c``. A region is a union over time, so an object that
-brakes harder than ``d_c`` stays inside it (and the 1-D core's constant-speed assumption, which a
-braking lead defeats, is not needed).
+core): its box. Its heading is not measured, so it is taken as the road's where it stands
+(:func:`standing_heading_rad`: parked and queued vehicles stand along the road; without a road, the
+ego's heading).
+The tolerance ``k sigma`` grows by ``r sin(d_phi)`` for a moving object, ``r`` the nearest point's range and
+``sin(d_phi) = min(1, v_tol / v)`` the uncertainty of its heading from that of its velocity over ground
+(``velocity_tolerance_mps``: the radar's relative velocity is a latency old, the ego's speed this cycle's):
+a turn of the axes by ``d_phi`` about the sensor moves the point that much in them (a car crossing just
+ahead, its heading 5 degrees off, showed its nearest point 0.7 m off its side's middle and was put
+beside our axis instead of across it, its region missing part of it:
+``tests/ecu/region/test_objects.py``); it decides the placement, the inflation stays ``k sigma``. A
+standing object's heading is taken as exact.
+**Moving**: heading along its velocity ``phi = atan2(v_y, v_x)``, it occupies the stopping region of
+:class:`ecu.core.region.params.ClassCapability`: the box swept along ``phi`` over
+``s = (v + a rho / 2) rho + v_rho^2 / (2 d_c)``, ``v_rho = v + a rho`` (its response time ``rho`` at
+acceleration ``a``, then its braking), widened on each side by ``min(y_max, a_lat t^2 / 2)``,
+``t = rho + v_rho / d_c``. A region is a union over time, so an object that brakes harder than ``d_c``
+stays inside it (and the 1-D core's constant-speed assumption, which a braking lead defeats, is not
+needed).
 
 Both are inflated by ``k sigma`` (``sigma_factor``) on every side. The result, :class:`ObjectSet`,
 holds oriented boxes (centre in the rear-axle frame of :mod:`ecu.core.region.paths`, unit axis,
@@ -34,6 +49,7 @@ from typing import NamedTuple, Sequence
 import numpy as np
 
 from .params import CAPABILITIES, RegionParams
+from .road import Road
 
 
 class TrackBox(NamedTuple):
@@ -66,31 +82,51 @@ def _place(c: float, h: float, tol: float) -> tuple[float, float]:
     return c, h
 
 
-def object_box(track: TrackBox, ego_speed_mps: float, params: RegionParams) -> tuple[float, ...]:
-    """(x, y, cos, sin, half length, half width, moving) of one track (module docstring); scalar code:
-    for eight tracks it is faster than numpy's per-call overhead."""
+def standing_heading_rad(x_m: float, y_m: float, road: Road | None) -> float:
+    """The heading (relative to the ego) of the road at the point ``(x, y)`` of the rear-axle frame: of the
+    reference line through the rear axle (heading ``psi``, curvature ``kappa``, :class:`~ecu.core.region.road.Road`)
+    at the point's radial projection, ``psi + atan2(kappa t, 1 - kappa n)`` with ``(t, n)`` the point in the line's
+    axes at the rear axle (exact on the circle; ``psi`` on a straight line); 0 without a road."""
+    if road is None:
+        return 0.0
+    c, s = math.cos(road.heading_rad), math.sin(road.heading_rad)
+    t, n = x_m * c + y_m * s, y_m * c - x_m * s
+    return road.heading_rad + math.atan2(road.curvature_1pm * t, 1.0 - road.curvature_1pm * n)
+
+
+def object_box(track: TrackBox, ego_speed_mps: float, params: RegionParams,
+               road: Road | None = None) -> tuple[float, ...]:
+    """(x, y, cos, sin, half length, half width, moving) of one track (module docstring); a standing one along the
+    ``road``. Scalar code: for eight tracks it is faster than numpy's per-call overhead."""
     x, y, vx, vy, size_class, sigma = track
     length, width, decel, lat, reach, response, accel = CAPABILITIES.get(size_class, CAPABILITIES[0])
     vx += ego_speed_mps
     speed = math.hypot(vx, vy)
     moving = speed > params.moving_object_speed_mps
-    c, s = (vx / speed, vy / speed) if moving else (1.0, 0.0)
-    a, b, ac, as_ = 0.5 * length, 0.5 * width, abs(c), abs(s)
-    tol = params.sigma_factor * sigma
-    cx, wx = _place(x, a * ac + b * as_, tol)
-    cy, wy = _place(y, a * as_ + b * ac, tol)
+    if moving:
+        c, s = vx / speed, vy / speed
+    else:
+        heading = standing_heading_rad(x + params.rear_axle_to_front_m, y, road)
+        c, s = math.cos(heading), math.sin(heading)
+    a, b, tol = 0.5 * length, 0.5 * width, params.sigma_factor * sigma
+    # the heading's own uncertainty turns the box's axes about the sensor: r sin(d_phi) more on each (docstring)
+    turned = math.hypot(x, y) * min(1.0, params.velocity_tolerance_mps / speed) if moving else 0.0
+    cu, wu = _place(x * c + y * s, a, tol + turned)
+    cw, ww = _place(y * c - x * s, b, tol + turned)
     sweep = side = 0.0
     if moving:
         fast = speed + accel * response
         sweep = (speed + 0.5 * accel * response) * response + fast * fast / (2.0 * decel)
         side = min(reach, 0.5 * lat * (response + fast / decel) ** 2)
-    return (cx + 0.5 * sweep * c + params.rear_axle_to_front_m, cy + 0.5 * sweep * s, c, s,
-            a + wx * ac + wy * as_ + 0.5 * sweep + tol, b + wx * as_ + wy * ac + side + tol, float(moving))
+        cu += 0.5 * sweep
+    return (cu * c - cw * s + params.rear_axle_to_front_m, cu * s + cw * c, c, s,
+            a + wu + 0.5 * sweep + tol, b + ww + side + tol, float(moving))
 
 
-def object_set(tracks: Sequence[TrackBox], ego_speed_mps: float, params: RegionParams) -> ObjectSet:
+def object_set(tracks: Sequence[TrackBox], ego_speed_mps: float, params: RegionParams,
+               road: Road | None = None) -> ObjectSet:
     """The boxes of every track: standing boxes and moving stopping regions, inflated (module docstring)."""
-    return boxes_as_set([object_box(t, ego_speed_mps, params) for t in tracks])
+    return boxes_as_set([object_box(t, ego_speed_mps, params, road) for t in tracks])
 
 
 def boxes_as_set(boxes: Sequence[tuple[float, ...]]) -> ObjectSet:

@@ -6,10 +6,14 @@ box, where the car stops; ``y`` within
 ``+-(W/2 + lateral_margin)``) stretched back by the sample spacing ``ds`` so that it covers the
 motion since pose ``k - 1``. Along an arc of curvature ``kappa`` (the path's largest) a body point ``(o_x, o_y)`` seen
 ``t <= ds`` earlier lies, in pose ``k``'s frame, at ``(o_x - t + kappa t o_y, o_y + kappa t (t/2 - o_x))``
-to first order in ``kappa t`` (our derivation), so the box grows by
-``e_y = |kappa| ds (ds/2 + max|o_x|) + (kappa ds)^2 (max|o_x| + W/2) / 2`` across and
+to first order in ``kappa t`` (our derivation). Over ``0 <= t <= ds`` the excursion ``t (t/2 - o_x)`` is largest
+at the rear overhang ``o_x = -r`` (inward, ``ds (ds/2 + r)``) or at the front reach ``o_x = f`` (outward,
+``ds (f - ds/2)``, or ``f^2/2`` once ``ds > f``), so the box grows by
+``e_y = |kappa| max(ds (ds/2 + r), ds (f - ds/2)) + (kappa ds)^2 (max|o_x| + W/2) / 2`` across and
 ``e_x = |kappa| ds W/2 + e_y`` along (second-order term as a margin;
-``tests/ecu/region/test_overlap.py`` checks the cover against densely sampled poses).
+``tests/ecu/region/test_overlap.py`` checks the cover against densely sampled poses). The bound
+``|kappa| ds (ds/2 + max|o_x|)``, which adds the two sides' worst terms, grew the box by more than twice
+the motion it covers.
 
 **Separation.** For every path, pose and object: the object's box projected on the pose's axes
 (half extents ``h_x = a|cos b| + b_w|sin b|``, ``h_y = a|sin b| + b_w|cos b|``, ``b`` the heading
@@ -18,10 +22,11 @@ difference) against the footprint; the gap is the larger of the two axis gaps::
     g = max(|l_x - m_x| - w_x - h_x,  |l_y| - w_y - h_y)
 
 ``(l_x, l_y)`` the object's centre in the pose's frame, ``m_x, w_x`` the footprint's middle and
-half length, ``w_y`` its half width. This is the separating-axis test on the pose's two axes: an
-object's axes are not tried, so a box turned against the ego counts by its bounding box in the
-ego's axes (conservative; exact when the two are aligned, as in the 1-D case, where
-``g = r - d - standoff``). ``g >= 0``: disjoint; the clearance of a path is its smallest ``g``.
+half length, ``w_y`` its half width. This is the separating-axis test on the pose's two axes; where it
+does not separate (``g < 0``), the object's two axes are tried too (:func:`_object_axes`), so the verdict
+is the full test's, exact for two boxes, while a positive ``g`` stays the two-axis value (exact when the
+two are aligned, as in the 1-D case, where ``g = r - d - standoff``). ``g >= 0``: disjoint; the clearance
+of a path is its smallest ``g``.
 """
 
 from __future__ import annotations
@@ -49,7 +54,9 @@ def footprint(paths: PathSet, params: RegionParams) -> Footprint:
     """The stretched and widened box of every row and pose (module docstring); the standoff extends the
     last box only, where the car stops (the 1-D core's ``d + standoff <= r``). Scalar code per row (compiled,
     ``setup.py``): for 16 rows cheaper than numpy's calls."""
-    reach = max(params.rear_axle_to_front_m + params.standoff_m, params.length_m - params.rear_axle_to_front_m)
+    front = params.rear_axle_to_front_m + params.standoff_m
+    overhang = params.length_m - params.rear_axle_to_front_m
+    reach = max(front, overhang)
     half_w, rear = 0.5 * params.width_m, params.rear_axle_to_front_m - 0.5 * params.length_m
     stops: list[float] = paths.stop_m.tolist()
     curvatures: list[float] = paths.max_curvature_1pm.tolist()
@@ -57,7 +64,8 @@ def footprint(paths: PathSet, params: RegionParams) -> Footprint:
     for stop, kappa in zip(stops, curvatures):
         ds = stop * (1.0 / params.path_samples)
         turn = kappa * ds
-        grow_y = turn * (0.5 * ds + reach + (0.5 * (reach + half_w)) * turn)
+        excursion = max(ds * (0.5 * ds + overhang), ds * (front - 0.5 * ds) if ds <= front else 0.5 * front * front)
+        grow_y = kappa * excursion + (0.5 * (reach + half_w)) * (turn * turn)
         half_x.append(0.5 * (params.length_m + ds) + (turn * half_w + grow_y))  # stretched rear to front, grown
         mid_x.append(rear - 0.5 * ds)
         half_y.append((half_w + params.lateral_margin_m) + grow_y)
@@ -91,7 +99,26 @@ def object_gaps(paths: PathSet, objects: ObjectSet, box: Footprint) -> np.ndarra
     gy -= box.half_y_m[..., 0]
     gy -= a * rs
     gy -= b * rc
-    return np.maximum(gx, gy, out=gx)
+    g = np.maximum(gx, gy, out=gx)
+    if g.min(initial=0.0) < 0.0:
+        _object_axes(g, local - box.mid_x_m[..., 0], turn, (a, b), box)
+    return g
+
+
+def _object_axes(g: np.ndarray, offset: np.ndarray, turn: np.ndarray, half: tuple[np.ndarray, np.ndarray],
+                 box: Footprint) -> None:
+    """Where ``g < 0``, the separating-axis test's other two axes, the object's: ``g = max(g, g_u, g_w)`` with the
+    footprint box projected on them (``offset``: the object's centre from the box's middle, pose axes; ``turn``: the
+    pose's heading in the object's axes; ``half``: the object's half extents). Only where the pose's axes do not
+    separate, so every disjoint gap, and every clearance and proximity built on them, is the two-axis test's; a
+    long box turned against the pose (a parked car beside us, widened along its side) no longer touches a
+    footprint its own axes separate it from."""
+    local = offset * turn
+    rc, rs = np.abs(turn.real), np.abs(turn.imag)
+    fx, fy = box.half_x_m[..., 0], box.half_y_m[..., 0]
+    gu = np.abs(local.real) - half[0] - fx * rc - fy * rs
+    gw = np.abs(local.imag) - half[1] - fx * rs - fy * rc
+    np.maximum(g, np.where(g < 0.0, np.maximum(gu, gw), g), out=g)
 
 
 def row_gaps(paths: PathSet, objects: ObjectSet, box: Footprint, row: int) -> np.ndarray:

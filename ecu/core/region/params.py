@@ -123,6 +123,9 @@ class RegionParams:
     contingency_decel_mps2: float = 15.0
     proximity_margin_m: float = 10.0
     moving_object_speed_mps: float = 0.5
+    #: how far a track's velocity over ground may be off (CoreParams.track_speed_tolerance_mps): its heading's
+    #: uncertainty when its box is placed (module objects)
+    velocity_tolerance_mps: float = 0.5
 
     #: derived once: the steering rows' lateral accelerations, and the samples' fractions k / M of s_stop
     lateral_levels_mps2: np.ndarray = field(init=False, repr=False, compare=False)
@@ -149,5 +152,6 @@ def region_params(core: CoreParams, **overrides: float) -> RegionParams:
               "driver_max_accel_mps2": core.driver_max_accel_mps2, "peak_decel_mps2": core.peak_decel_mps2,
               "contingency_decel_mps2": core.contingency_decel_mps2,
               "proximity_margin_m": core.proximity_margin_m, "width_m": core.vehicle_width_m,
-              "moving_object_speed_mps": core.moving_object_speed_mps}
+              "moving_object_speed_mps": core.moving_object_speed_mps,
+              "velocity_tolerance_mps": core.track_speed_tolerance_mps}
     return RegionParams(**{**shared, **overrides})

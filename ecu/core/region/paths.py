@@ -7,7 +7,10 @@ kinematic model, S9), curvature ``kappa = tan(delta) / L``.
 **The family** (rows of :class:`PathSet`, :data:`DRIVER`, :data:`NOMINAL`, :data:`LANE`, then the
 steering rows):
 
-* ``DRIVER``: the current curvature ``kappa_0`` held, the driver's command ``a`` held for ``t_h``;
+* ``DRIVER``: the driver's commands held: the pedals' ``a`` for ``t_h``, the wheel's curvature ``kappa_d``
+  (:func:`driver_curvature`) reached from the current ``kappa_0`` as an ECU path reaches its own (below),
+  ``kappa_0`` throughout when the two agree; at a curve's entry the yaw rate lags the wheel by the
+  steering's lag, and a path on ``kappa_0`` alone ran straight on across the oncoming lane;
 * ``NOMINAL``: the same path at full throttle (the proximity of :mod:`ecu.core.proximity`);
 * ``LANE``: braking along the road's curvature (the lane), reached as a steering row is;
 * steering rows: ``kappa_j = a_j / v_h^2`` for lateral accelerations ``a_j`` evenly spaced over
@@ -94,15 +97,24 @@ def hold_phase(speed_mps: float, accel_mps2: float, hold_s: float) -> tuple[floa
     return v * hold_s + 0.5 * accel_mps2 * hold_s * hold_s, v_h
 
 
-def curvature_rows(k0: float, v_h: float, road_curvature_1pm: float, params: RegionParams,
+def driver_curvature(ego: EgoState, params: RegionParams) -> float:
+    """kappa_d = tan(delta) / L, the curvature the driver's wheel commands: the kinematic single-track model's, and
+    the steady state of the dynamic one when it steers neutrally (axle cornering stiffnesses proportional to the
+    axle loads, ``C_i = mu C_S F_z,i`` as CommonRoad's vehicle models take them, S9: the understeer gradient
+    ``m/L (l_r/C_f - l_f/C_r)`` is then 0)."""
+    return math.tan(ego.road_wheel_angle_rad) / params.wheelbase_m
+
+
+def curvature_rows(kd: float, v_h: float, road_curvature_1pm: float, params: RegionParams,
                    base: bool, steering: bool) -> np.ndarray:
-    """The rows' curvatures: (``base``) driver, nominal, lane, then (``steering``) the levels ``a_j / v_h^2``."""
+    """The rows' curvatures: (``base``) driver and nominal (``kd``, the driver's), lane, then (``steering``) the
+    levels ``a_j / v_h^2``."""
     limit = math.tan(params.steer_angle_max_rad) / params.wheelbase_m
     scale = min(1.0 / max(v_h * v_h, 1e-9), limit / params.emergency_lat_accel_max_mps2)
     first = FIRST_STEER if base else 0
     kappa = np.empty(first + (params.steer_paths if steering else 0))
     if base:
-        kappa[:FIRST_STEER] = k0, k0, road_curvature_1pm
+        kappa[:FIRST_STEER] = kd, kd, road_curvature_1pm
     if steering:
         np.multiply(params.lateral_levels_mps2, scale, out=kappa[first:])
     return kappa
@@ -139,12 +151,18 @@ def sample_poses(stop_m: np.ndarray, lead_m: np.ndarray, k0: float, kappa: np.nd
     return (turn1 - 1.0) / (1j * k0) + turn1 * z2, turn1 * turn2
 
 
-def _driver_rows(ego: EgoState, t_h: float, rows: tuple[np.ndarray, ...], params: RegionParams) -> None:
-    """Set the nominal row's full throttle and the driver's rows' endless lead-in (kappa_0 throughout)."""
+def _driver_rows(ego: EgoState, t_h: float, rows: tuple[np.ndarray, ...], curvatures: tuple[float, float],
+                 params: RegionParams) -> None:
+    """Set the nominal row's full throttle and the driver's rows' lead-in: ``kappa_0`` throughout when the wheel
+    commands it (``curvatures``: kappa_0, kappa_d), else the lead-in of :func:`lead_in_m` from the row's own hold."""
     hold, speed, accel, lead = rows
     hold[NOMINAL], speed[NOMINAL] = hold_phase(ego.speed_mps, params.driver_max_accel_mps2, t_h)
     accel[NOMINAL] = params.driver_max_accel_mps2
-    lead[DRIVER] = lead[NOMINAL] = np.inf
+    k0, kd = curvatures
+    if kd == k0:
+        lead[DRIVER] = lead[NOMINAL] = np.inf
+    else:
+        lead[NOMINAL] = lead_in_m(float(speed[NOMINAL]), float(hold[NOMINAL]), k0, np.array([kd]), params)[0]
 
 
 def path_family(ego: EgoState, road_curvature_1pm: float, params: RegionParams, base: bool = True,
@@ -152,18 +170,19 @@ def path_family(ego: EgoState, road_curvature_1pm: float, params: RegionParams, 
     """The rows of the module docstring, sampled: (``base``) the driver's, nominal and lane rows, (``steering``)
     the steering rows (:mod:`ecu.core.region.decision` chooses which, and when)."""
     k0 = current_curvature(ego, params)
+    kd = driver_curvature(ego, params) if ego.speed_mps > params.yaw_rate_min_speed_mps else k0
     t_h, friction = params.hold_time_s, min(ego.decel_mps2, ego.friction_mu * GRAVITY_MPS2)
     d_hold, v_h = hold_phase(ego.speed_mps, ego.accel_mps2, t_h)
-    kappa = curvature_rows(k0, v_h, road_curvature_1pm, params, base, steering)
+    kappa = curvature_rows(kd, v_h, road_curvature_1pm, params, base, steering)
     hold, speed, accel = rows = np.empty((3, kappa.size))
     rows.T[...] = d_hold, v_h, ego.accel_mps2  # one fill for the three (np.full's Python wrapper costs a call each)
     lead = lead_in_m(v_h, d_hold, k0, kappa, params)
     if base:
-        _driver_rows(ego, t_h, (hold, speed, accel, lead), params)
+        _driver_rows(ego, t_h, (hold, speed, accel, lead), (k0, kd), params)
     demand = np.maximum(np.abs(kappa), abs(k0))
     brake, feasible = braking_m(speed, demand, friction)
     stop = hold + brake
-    if base and k0 == 0.0:  # the straight driver's rows: the 1-D core's own stopping distance
+    if base and k0 == 0.0 and kd == 0.0:  # the straight driver's rows: the 1-D core's own stopping distance
         stop[DRIVER] = stopping_distance_m(ego.speed_mps, ego.accel_mps2, t_h, friction)
         stop[NOMINAL] = stopping_distance_m(ego.speed_mps, params.driver_max_accel_mps2, t_h, friction)
     position, heading = sample_poses(stop, lead, k0, kappa, params.sample_fractions)

@@ -1,5 +1,7 @@
 """The contingency rules in order, symmetry, road bounds, R79 limits, least impact speed."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -29,7 +31,7 @@ def test_rule_1_the_drivers_path_is_kept_when_disjoint():
 def test_rule_2_brakes_in_lane_when_the_drivers_curve_would_hit():
     # the driver drifts left (yaw rate 0.1 rad/s at 20 m/s: radius 200 m) toward a car parked in the left lane;
     # the lane row straightens the wheel after the hold and the steering lag (it keeps the heading gained)
-    ego = EgoState(20.0, 0.0, D, yaw_rate_radps=0.1)
+    ego = EgoState(20.0, 0.0, D, yaw_rate_radps=0.1, road_wheel_angle_rad=math.atan(0.005 * P.wheelbase_m))
     d = decide(ego, [_standing(18.0, 2.8, 20.0, "CAR")], TWO_LANES, P)
     assert not d.driver_disjoint
     assert d.kind is Contingency.BRAKE_IN_LANE and d.row == LANE and d.curvature_1pm == 0.0

@@ -3,6 +3,8 @@ after them, the driver's path over a subset of the tracks read from the decision
 crossing rule's nominal gaps read from the decision (or worked out for its row alone) instead of a second
 separation."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -22,8 +24,9 @@ def _scenes(count, seed):
     """Random egos (straight and turning) among up to 8 tracks of every class, standing and moving."""
     rng = np.random.default_rng(seed)
     for _ in range(count):
-        ego = EgoState(float(rng.uniform(5.0, 35.0)), float(rng.uniform(-3.0, 2.0)), 8.1,
-                       float(rng.normal(0.0, 0.08)) * (rng.random() < 0.6))
+        speed, yaw_rate = float(rng.uniform(5.0, 35.0)), float(rng.normal(0.0, 0.08)) * (rng.random() < 0.6)
+        wheel = math.atan(yaw_rate / speed * P.wheelbase_m) + float(rng.normal(0.0, 0.01)) * (rng.random() < 0.3)
+        ego = EgoState(speed, float(rng.uniform(-3.0, 2.0)), 8.1, yaw_rate, wheel)  # the wheel: as the yaw, or not
         tracks = [TrackBox(float(rng.uniform(0.0, 90.0)), float(rng.uniform(-8.0, 8.0)), float(rng.uniform(-40.0, 5.0)),
                            float(rng.uniform(-2.0, 2.0)) * (rng.random() < 0.5), int(rng.integers(0, 6)),
                            float(rng.choice([0.0, 0.2])))

@@ -53,7 +53,43 @@ def _sat_overlap(a, b):
     return True
 
 
-def test_separation_is_negative_for_every_overlap_and_exact_when_aligned():
+@pytest.mark.parametrize("speed, yaw_rate", [(19.4, 0.179), (12.0, 0.2), (30.0, 0.05)])
+def test_footprint_growth_is_within_twice_the_bodys_excursion(speed, yaw_rate):
+    """The cover is not loose: the growth across is at most twice the widest excursion of the body's sides seen
+    from the pose over the motion since the previous one (the bound that added the front's and the rear's
+    worst terms was more than twice it)."""
+    ego = EgoState(speed, 0.0, 8.1, yaw_rate, math.atan(yaw_rate / speed * P.wheelbase_m))  # on a circle
+    exact = region_params(CoreParams(), lateral_margin_m=0.0)
+    coarse = path_family(ego, 0.0, exact, steering=False)
+    box = footprint(coarse, exact)
+    dense_params = region_params(CoreParams(), path_samples=800)
+    dense = path_family(ego, 0.0, dense_params, steering=False)
+    half_w = 0.5 * P.width_m
+    xs = np.linspace(P.rear_axle_to_front_m - P.length_m, P.rear_axle_to_front_m, 41)
+    body = np.array([complex(x, y) for x in xs for y in (-half_w, half_w)])
+    s_dense = coarse.stop_m[0] * dense_params.sample_fractions
+    for k in range(1, P.path_samples):
+        z, h = coarse.position[0, k], coarse.heading[0, k]
+        spacing = coarse.stop_m[0] / P.path_samples
+        since = (s_dense >= spacing * k - 1e-9) & (s_dense <= spacing * (k + 1) + 1e-9)
+        points = (dense.position[0, since, None] + dense.heading[0, since, None] * body - z) * np.conj(h)
+        excursion = np.abs(points.imag).max() - half_w
+        grow = box.half_y_m[0, 0, 0] - half_w
+        assert excursion <= grow + 1e-9 and grow <= 2.0 * excursion
+
+
+def _two_axis_gaps(paths, objects, box):
+    """Reference: the separation on the pose's two axes alone (the test before the object's axes), ``(N, M, K)``."""
+    local = (objects.centre[None, None, :] - paths.position[..., None]) * np.conj(paths.heading[..., None])
+    turn = objects.axis_conj[None, None, :] * paths.heading[..., None]
+    rc, rs = np.abs(turn.real), np.abs(turn.imag)
+    a, b = objects.half_length_m, objects.half_width_m
+    gx = np.abs(local.real - box.mid_x_m) - box.half_x_m - a * rc - b * rs
+    gy = np.abs(local.imag) - box.half_y_m - a * rs - b * rc
+    return np.maximum(gx, gy)
+
+
+def test_separation_is_negative_exactly_for_the_overlaps_and_exact_when_aligned():
     rng = np.random.default_rng(7)
     paths = path_family(EgoState(15.0, 0.0, 8.1, yaw_rate_radps=0.3), 0.0, P)
     box = footprint(paths, P)
@@ -74,7 +110,11 @@ def test_separation_is_negative_for_every_overlap_and_exact_when_aligned():
                 assert g[n, m, i] < 0.0
             else:
                 separated += 1
+                assert g[n, m, i] >= 0.0  # the object's axes separate what the pose's do not
     assert overlaps > 20 and separated > 20
+    two_axis = _two_axis_gaps(paths, objects, box)
+    assert np.array_equal(g[two_axis >= 0.0], two_axis[two_axis >= 0.0])  # disjoint gaps: the two-axis test's
+    assert ((g >= 0.0) & (two_axis < 0.0)).sum() > 20  # and some the pose's axes alone counted as touching
     aligned = ObjectSet(np.array([30.0 + 0.5j]), np.array([1 + 0j]), np.array([1 + 0j]), np.array([1.0]), np.array([0.5]),
                         np.array([False]))
     straight = path_family(EgoState(10.0, 0.0, 8.1), 0.0, P, steering=False)

@@ -51,11 +51,30 @@ def test_low_speed_family_stays_within_the_steering_angle_limit():
 
 
 def test_driver_rows_follow_the_current_curvature_from_yaw_rate():
-    paths = path_family(EgoState(10.0, 0.0, 8.1, yaw_rate_radps=0.5), 0.0, P)
+    ego = EgoState(10.0, 0.0, 8.1, yaw_rate_radps=0.5, road_wheel_angle_rad=math.atan(0.05 * P.wheelbase_m))
+    paths = path_family(ego, 0.0, P)
     assert paths.curvature_1pm[DRIVER] == paths.curvature_1pm[NOMINAL] == pytest.approx(0.05)
     # the last pose lies on the circle of radius 20 m through the origin, centre (0, 20)
     assert np.allclose(np.abs(paths.position[DRIVER] - 20j), 20.0)
     assert paths.curvature_1pm[LANE] == 0.0
+
+
+@pytest.mark.parametrize("wheel_curvature", [0.005, 0.0, -0.002])
+def test_driver_rows_reach_the_wheels_curvature_from_the_yaw_rates(wheel_curvature):
+    """At a curve's entry the wheel leads the yaw rate: the driver's path keeps kappa_0 over the lead-in of an ECU
+    path (hold, steering lag, ramp), then the wheel's curvature; with the wheel straight it straightens."""
+    k0, speed = 0.0015, 19.3
+    ego = EgoState(speed, 0.0, 8.1, k0 * speed, math.atan(wheel_curvature * P.wheelbase_m))
+    paths = path_family(ego, 0.0, P, steering=False)
+    assert paths.curvature_1pm[DRIVER] == paths.curvature_1pm[NOMINAL] == pytest.approx(wheel_curvature)
+    lead = paths.hold_m[DRIVER] + speed * P.steer_lag_s + speed * abs(wheel_curvature - k0) / (
+        2.0 * P.steer_rate_max_radps / P.wheelbase_m)
+    s = paths.stop_m[DRIVER] * P.sample_fractions
+    on_k0 = s <= lead
+    assert on_k0.any() and not on_k0.all()
+    assert np.allclose(np.abs(paths.position[DRIVER][on_k0] - 1j / k0), 1.0 / k0)  # the yaw rate's circle
+    heading = np.angle(paths.heading[DRIVER][~on_k0])
+    assert np.allclose(heading, k0 * lead + wheel_curvature * (s[~on_k0] - lead))  # then the wheel's
 
 
 def test_at_standstill_the_wheel_angle_gives_the_curvature():
