@@ -27,7 +27,8 @@ a turn of the axes by ``d_phi`` about the sensor moves the point that much in th
 ahead, its heading 5 degrees off, showed its nearest point 0.7 m off its side's middle and was put
 beside our axis instead of across it, its region missing part of it:
 ``tests/ecu/region/test_objects.py``); it decides the placement, the inflation stays ``k sigma``. A
-standing object's heading is taken as exact.
+standing object's heading is taken as exact. ``velocity_tolerance_mps`` is 0 by default, so the term is off
+(:class:`ecu.core.region.params.RegionParams` says why: a cyclist passed at 1.5 m).
 **Moving**: heading along its velocity ``phi = atan2(v_y, v_x)``, it occupies the stopping region of
 :class:`ecu.core.region.params.ClassCapability`: the box swept along ``phi`` over
 ``s = (v + a rho / 2) rho + v_rho^2 / (2 d_c)``, ``v_rho = v + a rho`` (its response time ``rho`` at

@@ -112,12 +112,13 @@ def test_a_crossing_car_with_its_heading_a_little_off_still_spans_our_axis(x):
     """A car crossing ahead, its side across our bore sight (nearest point (x, 0)), its velocity over ground 0.5 m/s
     off along our axis (the radar's relative velocity is a latency old, the ego's speed this cycle's): placed in the
     axes of that heading, 5 degrees off, the point lay 0.7 to 2.7 m from its side's middle and the car was put beside
-    our axis, its region missing the true box; the heading's uncertainty keeps it across, over the true box."""
+    our axis, its region missing the true box; the heading's uncertainty (``velocity_tolerance_mps`` 0.5 m/s) keeps
+    it across, over the true box. The default leaves it out (0: a known gap, ecu/core/region/params.py says why)."""
     ego_speed, track = 4.1, TrackBox(x, 0.0, 0.5 - 4.1, 5.5, CLASS["CAR"], 0.17)
     centre = complex(x + 0.85 + R, 0.0)  # the true car: heading 90 degrees, its right side at x
     true = np.array([centre + 1j * complex(i * 2.0, j * 0.85) for i in (-1, 1) for j in (-1, 1)])
-    assert _covers(object_set([track], ego_speed, P), true)
-    assert not _covers(object_set([track], ego_speed, region_params(CoreParams(), velocity_tolerance_mps=0.0)), true)
+    assert _covers(object_set([track], ego_speed, region_params(CoreParams(), velocity_tolerance_mps=0.5)), true)
+    assert P.velocity_tolerance_mps == 0.0 and not _covers(object_set([track], ego_speed, P), true)
 
 
 def test_moving_object_occupies_its_stopping_region_along_its_velocity():
