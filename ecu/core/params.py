@@ -254,7 +254,7 @@ class CoreParams:
         1.5, unit="s", allowed=Range(0.0, 600.0),
         doc="right_of_way: slow this long with something near, the car takes its turn (ecu.core.way_out)")
     way_out_seed: int = setting(
-        0, allowed=Range(0, 2**31 - 1),
+        0, allowed=Range(0, 2**64 - 1),  # a fleet gives a scenario seed (< 2^63) plus the vehicle's index
         doc="right_of_way: seeds the draws of a car's wait after it gives back a turn it took with another car at a "
             "narrowing (ecu.core.way_out, backing off); a fleet gives each car its own seed")
     way_out_slow_speed_mps: float = setting(3.0, unit="m/s", allowed=Range(0.0, 20.0),

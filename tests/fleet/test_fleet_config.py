@@ -59,6 +59,17 @@ def test_bad_keys_are_one_line_errors_naming_the_key(change, message):
     assert message in str(info.value) and "\n" not in str(info.value)
 
 
+@pytest.mark.parametrize("seed", [0, 2158462969467110532])  # the second: a seed crd sweep drew
+def test_under_a_way_out_rule_each_vehicle_draws_its_patience_and_its_back_off_seed(seed):
+    """From its own seed (the fleet's plus its index), up to the largest scenario seed a sweep draws."""
+    data = _data()
+    data["fleet"]["seed"] = seed
+    data["vehicle"]["ecu"]["way_out"] = "right_of_way"
+    a, b = (v.scenario.ecu for v in fleet_from_dict(data).vehicles)
+    assert (a.way_out_seed, b.way_out_seed) == (seed, seed + 1)
+    assert 0.5 <= a.way_out_patience_s <= 3.0 and a.way_out_patience_s != b.way_out_patience_s
+
+
 def test_an_error_in_a_file_names_the_file(tmp_path):
     path = tmp_path / "f.toml"
     path.write_text('[fleet]\nname = "t"\n[vehicle.road]\ny_m = 1.75\n[[vehicle.road.geometry]]\nkind = "line"\n'
