@@ -3,6 +3,8 @@
 import pytest
 
 from ecu.core.params import CoreParams
+from ecu.core.planar import RegionCycle
+from ecu.core.region.decision import Contingency, RegionDecision
 from ecu.core.region.narrowing import Turn
 from ecu.core.types import CoreState
 from ecu.core.way_out import backoff_fraction, next_way_out, patience_s, turn
@@ -10,12 +12,12 @@ from ecu.core.way_out import backoff_fraction, next_way_out, patience_s, turn
 P = CoreParams(strategy="tightening", way_out="right_of_way", way_out_patience_s=2.0, way_out_seed=7)
 
 
-class _Region:
-    """The two fields of ecu.core.planar.RegionCycle that the back-off reads."""
-
-    def __init__(self, contested: bool, at_narrowing: bool = True, proximity: float = 0.5):
-        self.contested, self.at_narrowing, self.standoff = contested, at_narrowing, False
-        self.decision = type("D", (), {"proximity": proximity})()
+def _Region(contested: bool, at_narrowing: bool = True, proximity: float = 0.5) -> RegionCycle:
+    """A region cycle with what the back-off reads: the proximity, contested, and whether a narrowing is ahead
+    (the rest is not read; a real RegionCycle, as the compiled core checks its argument's type)."""
+    decision = RegionDecision(Contingency.DRIVER_PATH, 0, 0.0, 0.0, 0.0, 0.0, 0.0, True, 0.0, proximity,
+                              None, None, None)  # type: ignore[arg-type]
+    return RegionCycle(None, decision, True, 0.0, False, contested, at_narrowing)  # type: ignore[arg-type]
 
 
 def test_the_draws_are_seeded_uniform_and_differ_per_seed_and_back_off():
