@@ -92,7 +92,8 @@ class CornerFeed:
 
     def step(self, cycle: int, t_s: float, ego: Ego) -> tuple[Track, ...] | None:
         """The merged tracks of this cycle (call it on every ECU cycle, as :meth:`TrackFeed.step`)."""
-        left, right = (sensor.step(cycle, t_s, ego) for sensor in self.sensors)
+        scan = self.sensors[0].scan(cycle, t_s, ego)  # one scan of the scene for both (same period and latency)
+        left, right = (sensor.report(scan) for sensor in self.sensors)
         if left is None or right is None:
             return None
         return merged((left, right), len(CORNER_SLOTS))
@@ -109,7 +110,8 @@ class FrontFeed:
 
     def step(self, cycle: int, t_s: float, ego: Ego) -> tuple[Track, ...] | None:
         """The fused tracks of this cycle (call it on every ECU cycle)."""
-        lists = tuple(feed.step(cycle, t_s, ego) for feed in (self.forward, *self.sensors))
+        scan = self.forward.scan(cycle, t_s, ego)  # one scan of the scene for the three (same period and latency)
+        lists = tuple(feed.report(scan) for feed in (self.forward, *self.sensors))
         return None if any(tracks is None for tracks in lists) else merged(lists, self.slots)  # type: ignore[arg-type]
 
 

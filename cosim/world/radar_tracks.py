@@ -43,12 +43,21 @@ class TrackFeed:
 
     def step(self, cycle: int, t_s: float, ego: Ego) -> tuple[Track, ...] | None:
         """The tracks of this cycle (``cycle`` counts ECU cycles from 0; call it on every one)."""
+        return self.report(self.scan(cycle, t_s, ego))
+
+    def scan(self, cycle: int, t_s: float, ego: Ego) -> Scan:
+        """The scene as the sensor scans it this cycle: the objects only when a report will read the scan. Sensors
+        of one period and latency share it (:mod:`cosim.world.corner_radar`: it is built once for them)."""
         pose = EgoPose(ego.x_m, ego.y_m, ego.yaw_rad, *self.scene.ego.velocity(ego), ego.yaw_rate_radps)
         truths = ()
         if (cycle + self.params.latency_cycles) % self.params.period_cycles == 0:  # a report will read this scan
             truths = tuple(ObjectTruth(obj.index, object_box(obj, st), object_motion(obj, st), obj.size_class)
                            for obj, st in zip(self.scene.objects, self.scene.states(t_s)))
-        self.state, tracks = radar_step(self.state, Scan(cycle, pose, truths), self.params)
+        return Scan(cycle, pose, truths)
+
+    def report(self, scan: Scan) -> tuple[Track, ...] | None:
+        """This sensor's tracks from ``scan`` on report cycles (None on the others)."""
+        self.state, tracks = radar_step(self.state, scan, self.params)
         if tracks is not None:
             self.latest = tracks
         return tracks
