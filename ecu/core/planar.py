@@ -22,8 +22,15 @@ planar tracks in the inputs (``RadarTrack`` slots; none: this module does nothin
    Only when the decision over every track is not disjoint is that second check run (a subset of
    disjoint objects is disjoint), on the per-object gaps the decision already holds
    (:func:`ecu.core.region.decision.driver_disjoint_without`).
+6. **What it adds to a release**: a contingency is released only when the driver's stopping path is disjoint
+   from every track's region, the line's object's too (Prop. 1 over all agents). The line judges its object as
+   standing when its speed along our line is low, so a child crossing at 5 km/h was released from while its
+   region (its response time, :data:`ecu.core.region.params.CAPABILITIES`) still reached our path, and on a
+   speed estimate that read 0.9 m/s low under full braking the line's own check passed by 0.15 m
+   (``ncap_vru`` CPNCO-25-60 under ``none``: released at 5.11 s, re-invoked at 5.30 s, hit at 10.8 km/h;
+   with this rule, no contact).
 
-So a run whose only track is the 1-D object in our path is decided by the 1-D core alone; an
+So a run whose only track is the 1-D object in our path is invoked by the 1-D core alone; an
 object off the path, standing, cannot touch the straight stopping path of a car whose wheel is
 straight (its nearest point is more than ``vehicle_width_m / 2 + path_margin_m`` = 1.91 m off the
 axis, the footprint's half width is 1.01 m, the inflation 3 sigma = 0.51 m); a moving one off the
@@ -127,9 +134,11 @@ def line_track(tracks: Sequence[Track], inputs: CoreInputs, in_our_path: bool, s
     """The index of the track that is the 1-D core's object (:func:`ecu.core.relevance.nearest_track`); None when
     that object is not ``in_our_path`` (valid and in the predicted path, :mod:`ecu.core.relevance`), no track
     is near it, or it is an oncoming vehicle (:func:`oncoming`). Confirmed or not, it is left to the line: while
-    the line confirms a new object (3 reports), neither judges it (a known gap: when a car that cuts out reveals
-    a stopped one, the contingency can be released for those 0.1 s; judging it in the region then changed the
-    steering contingency's timing, and the late stationary car at 80 km/h was hit, so it is not done)."""
+    the line confirms a new object (3 reports), the line does not invoke for it (judging it in the region then
+    changed the steering contingency's timing, and the late stationary car at 80 km/h was hit, so it is not
+    done); a contingency already invoked is not released for it, since a release needs every track's region
+    disjoint (:func:`merged`: a car that cuts out and reveals a stopped one no longer ends the braking for
+    those 0.1 s, ``emergency_steering`` cut-out-free-90 and cut-out-occupied-90)."""
     i = nearest_track(tracks, inputs, params) if in_our_path else None
     return None if i is not None and oncoming(tracks[i], speed_mps, params) else i
 
@@ -205,6 +214,8 @@ def merged(plan: Plan, region: RegionCycle | None, steering_held: bool, params: 
     if region is not None:
         plan = tightened(plan, region.crossing_proximity, params)
     if not steering_held and (region is None or region.off_axis_disjoint):
+        if region is not None and plan.released and not region.decision.driver_disjoint:
+            return plan._replace(released=False)  # a release: disjoint from every region, the line's object's too
         return plan
     return plan._replace(disjoint=False, released=False)
 
