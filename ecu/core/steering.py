@@ -45,7 +45,7 @@ from .params import CoreParams
 from .plan import Plan
 from .planar import RegionCycle
 from .region import Contingency, tightened_bounds
-from .types import CoreState, Mode
+from .types import CoreState, Evasion, Mode
 
 _CONTINGENCY = Mode["CONTINGENCY"]
 
@@ -56,16 +56,49 @@ REQUEST_RANGE_RAD = (_REQUEST_LOW_DEG / _DEG_PER_RAD, _REQUEST_HIGH_DEG / _DEG_P
 
 
 class Steering(NamedTuple):
-    """The cycle's steering: the latched curvature (None: none), the overlay request (rad), SteerActive, and the
-    deceleration the friction circle leaves beside the turn (inf: no limit)."""
+    """The cycle's steering: the latched curvature (None: none), the overlay request (rad), SteerActive, the
+    deceleration the friction circle leaves beside the turn (inf: no limit), and the held lane change."""
 
     curvature_1pm: float | None
     request_rad: float
     active: bool
     decel_mps2: float
+    evasion: Evasion = Evasion()
 
 
 NO_STEERING = Steering(None, 0.0, False, math.inf)
+#: after a lane change's S, the heading is steered back to the one at the latch over this time (s): the curvature
+#: ``-psi / (v T)`` (our choice: the oracle's heading gain, ``cosim.matrix.oracle``, is 1 rad of wheel per rad)
+HEADING_RETURN_S = 0.5
+
+
+def latched(state: CoreState, mode: Mode, region: RegionCycle | None, unavoidable: bool,
+            params: CoreParams) -> tuple[float | None, Evasion]:
+    """The held path: its first curvature (None: none) and its lane change (module docstring, Latch)."""
+    kappa = latched_curvature(state, mode, region, unavoidable, params)
+    if kappa is None:
+        return None, Evasion()
+    if state.steer_curvature_1pm is None and region is not None:
+        return kappa, Evasion(region.decision.evasion_half_m)
+    return kappa, state.steer_evasion
+
+
+def path_curvature(kappa: float, evasion: Evasion, speed_mps: float) -> float:
+    """The curvature the held path asks for now: an arc's own; along a lane change's S ``kappa`` over its first
+    half, ``-kappa`` over its second, then back to the heading at the latch (:data:`HEADING_RETURN_S`)."""
+    if evasion.half_m <= 0.0 or evasion.travel_m < evasion.half_m:
+        return kappa
+    if evasion.travel_m < 2.0 * evasion.half_m:
+        return -kappa
+    return -evasion.heading_rad / (max(speed_mps, 1.0) * HEADING_RETURN_S)
+
+
+def advanced(evasion: Evasion, speed_mps: float, yaw_rate_radps: float, cycle_s: float) -> Evasion:
+    """The lane change one cycle on: its distance and heading change."""
+    if evasion.half_m <= 0.0:
+        return evasion
+    return Evasion(evasion.half_m, evasion.travel_m + speed_mps * cycle_s,
+                   evasion.heading_rad + yaw_rate_radps * cycle_s)
 
 
 def latched_curvature(state: CoreState, mode: Mode, region: RegionCycle | None, unavoidable: bool,
@@ -102,7 +135,8 @@ def steering(state: CoreState, mode: Mode, region: RegionCycle | None, unavoidab
     ``inputs_wheel_rad``: the driver's steering-wheel angle."""
     if not params.steering_authority:
         return NO_STEERING
-    kappa = latched_curvature(state, mode, region, unavoidable, params)
+    held, evasion = latched(state, mode, region, unavoidable, params)
+    kappa = None if held is None else path_curvature(held, evasion, speed_mps)
     rp = params.region
     target = 0.0
     if kappa is not None:
@@ -115,4 +149,7 @@ def steering(state: CoreState, mode: Mode, region: RegionCycle | None, unavoidab
     if kappa is not None:
         lateral = speed_mps * speed_mps * abs(kappa)
         decel = math.sqrt(max(0.0, decel_mps2 * decel_mps2 - lateral * lateral))
-    return Steering(kappa, request, kappa is not None or request != 0.0, decel)
+        if evasion.half_m > 0.0 and evasion.travel_m < 2.0 * evasion.half_m:
+            decel = 0.0  # a lane change steers first and brakes after its S (ecu.core.region.evasion)
+    return Steering(held, request, held is not None or request != 0.0, decel,
+                    advanced(evasion, speed_mps, yaw_rate_radps, params.cycle_s))

@@ -102,7 +102,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
         valid_cycles=valid_cycles, held_contingency=held,
         gate_interventions=state.gate_interventions + interventions, decel=estimate, track=track,
         cycles_since_drive=health.cycles_since_drive, traction_excess_mps=health.traction_excess_mps,
-        steer_curvature_1pm=steer.curvature_1pm, steer_request_rad=steer_rad,
+        steer_curvature_1pm=steer.curvature_1pm, steer_request_rad=steer_rad, steer_evasion=steer.evasion,
         slow_cycles=slow_cycles, way_out_backoffs=backoffs)
     outputs = CoreOutputs(
         mode=gated.mode, override_active=gated.override_active, throttle_limit_pct=gated.throttle_limit_pct,

@@ -84,6 +84,15 @@ class CoreInputs(NamedTuple):
     steering_wheel_rad: float = 0.0
 
 
+class Evasion(NamedTuple):
+    """A held evasive lane change (:mod:`ecu.core.region.evasion`): each half of its S (m; 0: the held path is an
+    arc), and the distance (m) and heading change (rad) since it was latched."""
+
+    half_m: float = 0.0
+    travel_m: float = 0.0
+    heading_rad: float = 0.0
+
+
 class CoreState(NamedTuple):
     """Everything carried from one cycle to the next. The start-up state is ``CoreState()``."""
 
@@ -112,6 +121,8 @@ class CoreState(NamedTuple):
     #: requested (rad) (:mod:`ecu.core.steering`)
     steer_curvature_1pm: float | None = None
     steer_request_rad: float = 0.0
+    #: the held path's lane change, if it is one (:mod:`ecu.core.steering`)
+    steer_evasion: Evasion = Evasion()
     #: cycles slow with something near the nominal path (:mod:`ecu.core.way_out`; 0 without a way-out rule)
     slow_cycles: int = 0
     #: turns given back at the narrowing ahead (:mod:`ecu.core.way_out`, backing off)
