@@ -85,12 +85,15 @@ class CoreInputs(NamedTuple):
 
 
 class Evasion(NamedTuple):
-    """A held evasive lane change (:mod:`ecu.core.region.evasion`): each half of its S (m; 0: the held path is an
-    arc), and the distance (m) and heading change (rad) since it was latched."""
+    """A held evasive lane change (:mod:`ecu.core.lane_change_tracking`): its lateral offset (m, left positive;
+    0: the held path is an arc), its lead-in (m: where its S begins), and the distance (m), heading change (rad)
+    and lateral offset (m) dead-reckoned since it was latched."""
 
-    half_m: float = 0.0
+    offset_m: float = 0.0
+    lead_m: float = 0.0
     travel_m: float = 0.0
     heading_rad: float = 0.0
+    lateral_m: float = 0.0
 
 
 class CoreState(NamedTuple):

@@ -81,8 +81,10 @@ class RegionDecision(NamedTuple):
     driver_gaps_m: np.ndarray = np.empty((0, 0))
     #: per object, row of ``paths`` and pose, the gaps ``(K, N, M)`` (:func:`ecu.core.region.overlap.object_gaps`)
     object_gaps_m: np.ndarray = np.empty((0, 0, 0))
-    #: the chosen path is an evasive lane change (:mod:`ecu.core.region.evasion`): each half of its S (m); 0 if not
-    evasion_half_m: float = 0.0
+    #: the chosen path is an evasive lane change (:mod:`ecu.core.region.evasion`): its lateral offset (m, left
+    #: positive; 0 if not) and where its S begins (m)
+    evasion_offset_m: float = 0.0
+    evasion_lead_m: float = 0.0
 
 
 def clearances(paths: PathSet, objects: ObjectSet, box: Footprint) -> tuple[np.ndarray, np.ndarray]:
@@ -185,7 +187,7 @@ def evaluate(ego: EgoState, road_curvature_1pm: float, objects: ObjectSet, param
 
 
 def _result(kind: Contingency, row: int, ctx: tuple, clearance: np.ndarray, impact: float,
-            steering: bool = False, evasion_half_m: float = 0.0) -> RegionDecision:
+            steering: bool = False, evasion: tuple[float, float] = (0.0, 0.0)) -> RegionDecision:
     """The decision for ``row`` of ``ctx``'s paths (with their footprint and every object's gaps to them);
     ``clearance[DRIVER]`` and the driver's distance from the base."""
     paths, box, gaps, params, base = ctx
@@ -193,7 +195,7 @@ def _result(kind: Contingency, row: int, ctx: tuple, clearance: np.ndarray, impa
     return RegionDecision(kind, row, float(paths.curvature_1pm[row]), decel, float(clearance[row]), impact,
                           float(paths.stop_m[row]), base.driver_disjoint, base.driver_stopping_distance_m,
                           base.proximity, paths, box, base.objects, steering, base.driver_gaps_m, gaps,
-                          evasion_half_m)
+                          *evasion)
 
 
 def _evasion(ego: EgoState, road: Road | None, ctx: tuple) -> RegionDecision | None:
@@ -206,7 +208,7 @@ def _evasion(ego: EgoState, road: Road | None, ctx: tuple) -> RegionDecision | N
     lane = bisect.bisect_right(road.boundaries_m, 0.0)
     if lane == 0 or lane == len(road.boundaries_m):
         return None
-    paths, half = evasion_family(ego, road.boundaries_m[lane] - road.boundaries_m[lane - 1], params)
+    paths, offset, lead = evasion_family(ego, road.boundaries_m[lane] - road.boundaries_m[lane - 1], params)
     box = footprint(paths, params)
     _, clearance, gaps = separations(paths, base.objects, box)
     disjoint = admissible_steering(paths, box, base.objects, road) & (clearance >= 0.0)
@@ -214,7 +216,7 @@ def _evasion(ego: EgoState, road: Road | None, ctx: tuple) -> RegionDecision | N
         return None
     row = int(np.argmax(np.where(disjoint, clearance, -np.inf)))
     return _result(Contingency.STEER_AND_BRAKE, row, (paths, box, gaps, params, base), clearance, 0.0,
-                   steering=True, evasion_half_m=float(half[row]))
+                   steering=True, evasion=(float(offset[row]), float(lead[row])))
 
 
 def _steer_or_least_impact(steering: Evaluation, speeds: np.ndarray, lane: tuple[float, float],

@@ -18,12 +18,10 @@ new lane. The assumed road follows the current curvature ``kappa_0`` (:func:`ecu
 so the arcs are ``kappa_0 + kappa_s`` and ``kappa_0 - kappa_s`` and the lane after them ``kappa_0``. The switch from ``+kappa_s`` to ``-kappa_s`` is a ramp replaced by its two halves at the
 end curvatures, as for the lead-in (its heading change is kept exactly).
 
-**Stopping along it**: braking inside the friction circle with the largest demand ``|kappa_0| + kappa_s``
-over the lead-in and the S (the arcs' formula of :mod:`ecu.core.region.paths`), then full braking ``A``
-straight on: with ``L`` the lead-in and the S past the hold, and ``phi_0 = arcsin(kappa v_h^2 / A)``::
-
-    stops within them:  s_brake = phi_0 / (2 kappa)                            if 2 kappa L >= phi_0
-    else:               s_brake = L + u_L / (2 A),  u_L = (A / kappa) sin(phi_0 - 2 kappa L)
+**Stopping along it**: the lead-in and the S at the hold speed ``v_h``, then full braking ``A`` straight on in
+the new lane, ``s_stop = s_lead + 2 l + v_h^2 / (2 A)``. The execution (:mod:`ecu.core.lane_change_tracking`)
+follows the same path by distance and brakes inside the friction circle along the S too, so it stops within
+a part of this path: the boxes over the whole of it cover the car's.
 
 **Lateral levels**: R79 gives no numeric lateral-acceleration cap for an ESF (planar-protocol-facts.md
 section 4: none found; GRRF-82, Sep 2016, approved ESF with no objective test of its own). The arcs keep the
@@ -34,8 +32,6 @@ disjoint (:mod:`ecu.core.region.decision`), so every decision an arc makes is un
 
 from __future__ import annotations
 
-import dataclasses
-import functools
 import dataclasses
 import functools
 import math
@@ -52,9 +48,13 @@ EVASION_LEVELS = 3
 EVASION_OFFSETS = 3
 #: the lane changes' largest lateral acceleration as a share of the friction A (module docstring: our choice)
 EVASION_FRICTION_SHARE = 0.8
-#: boxes per lane-change stopping path: twice the arcs' (a path at speed is long, and each box stretched over
-#: its stretch of the S and turned with it is wider than the car)
-EVASION_SAMPLES_FACTOR = 2
+#: boxes per lane-change stopping path: four times the arcs' 8. Each box covers the motion since the previous
+#: one, so a box stretched over ``s_stop / M`` and turned by the S's heading ``psi`` is wider than the car by
+#: about ``(s_stop / M) sin(psi) / 2`` each side. At 120 km/h ``s_stop`` is about 150 m and ``psi`` about 0.2
+#: rad: 16 boxes (9.4 m) add 0.9 m each side, more than a lane change's margin to the road's edge and to the
+#: object it passes; 32 boxes (4.7 m) add 0.47 m (measured: late-stationary-free-120 had no admissible
+#: disjoint row with 16 boxes and had one with 32)
+EVASION_SAMPLES_FACTOR = 4
 
 
 @functools.lru_cache(maxsize=8)
@@ -102,8 +102,9 @@ def piecewise_poses(s: np.ndarray, lengths: np.ndarray, curvatures: np.ndarray) 
     return position, heading
 
 
-def evasion_family(ego: EgoState, lane_width_m: float, params: RegionParams) -> tuple[PathSet, np.ndarray]:
-    """The lane-change rows (module docstring) and each row's half length ``l`` (m)."""
+def evasion_family(ego: EgoState, lane_width_m: float,
+                   params: RegionParams) -> tuple[PathSet, np.ndarray, np.ndarray]:
+    """The lane-change rows (module docstring), each row's lateral offset ``W`` (m, left positive) and lead-in (m)."""
     k0 = current_curvature(ego, params)
     friction = min(ego.decel_mps2, ego.friction_mu * GRAVITY_MPS2)
     d_hold, v_h = hold_phase(ego.speed_mps, ego.accel_mps2, params.hold_time_s)
@@ -120,4 +121,4 @@ def evasion_family(ego: EgoState, lane_width_m: float, params: RegionParams) -> 
     position, heading = piecewise_poses(stop[:, None] * params.sample_fractions, lengths, curvatures)
     accel = np.full(n, ego.accel_mps2)
     return PathSet(kappa, demand, accel, np.full(n, d_hold), np.full(n, v_h), stop, feasible, position, heading,
-                   friction), half
+                   friction), np.copysign(offset, kappa), lead
