@@ -21,11 +21,14 @@ the region's decision has no steering rows (:func:`ecu.core.region.decide`, ``st
   but not steered: its ranking assumes the others stop
   within their regions, and a crossing pedestrian who walks on was steered into (measured, ncap_vru: 41
   cells lost their band with it); the contingency then brakes in lane at full.
-  A **lane change** (:mod:`ecu.core.region.evasion`, chosen only when no arc is disjoint) latches once
-  braking cannot stop the standoff short of the line's object (``shortfall > -standoff``): the 1-D plan
-  leaves out the radar's latency, and with the standoff-less test the car braked in lane into the parked car
-  of late-stationary-free-80 (29.9 km/h) while the region's lane change was disjoint (measured: the plan's
-  28.5 m against a range of 30.6 m). The lane change is held on its planned S, closed loop
+  A **lane change** (:mod:`ecu.core.region.evasion`, chosen only when no arc is disjoint) among standing
+  objects only (none of the region's tracks moving) latches once braking cannot stop the standoff short of
+  the line's object (``shortfall > -standoff``): the 1-D plan leaves out the radar's latency, and with the
+  standoff-less test the car braked in lane into the parked car of late-stationary-free-80 (29.9 km/h) while
+  the region's lane change was disjoint (measured: the plan's 28.5 m against a range of 30.6 m). With a
+  moving object the test stays standoff-less: a crossing pedestrian walks on out of the lane, and with the
+  standoff the car steered into the pedestrians of ncap_vru CPNA-50-60 and CPNCO-50-60 (conservative), where
+  braking in lane had stopped short. The lane change is held on its planned S, closed loop
   (:mod:`ecu.core.lane_change_tracking`).
 * **Target**: the overlay that makes the road-wheel angle ``atan(kappa L)`` on top of the driver's
   (``kappa`` an arc's, or a lane change's tracking curvature, :func:`ecu.core.lane_change_tracking.tracking_curvature`),
@@ -110,10 +113,17 @@ def latched_curvature(state: CoreState, mode: Mode, region: RegionCycle | None, 
     held = state.steer_curvature_1pm
     if held is not None or region is None or region.decision.kind is not Contingency.STEER_AND_BRAKE:
         return held
-    if shortfall_m <= (-params.standoff_m if region.decision.evasion_offset_m != 0.0 else 0.0):
+    if shortfall_m <= -_latch_margin_m(region, params):
         return held
     bounds = tightened_bounds(region.ego, region.decision, params.region)
     return min(bounds.curvature_hi_1pm, max(bounds.curvature_lo_1pm, region.decision.curvature_1pm))
+
+
+def _latch_margin_m(region: RegionCycle, params: CoreParams) -> float:
+    """How far short of the range braking may still stop for the decision to latch (module docstring, Latch): the
+    standoff for a lane change among standing objects only, else 0."""
+    standing = not bool(region.decision.objects.moving.any())
+    return params.standoff_m if region.decision.evasion_offset_m != 0.0 and standing else 0.0
 
 
 def shortfall(relevant: bool, plan: Plan, range_m: float) -> float:

@@ -2,6 +2,7 @@
 
 import math
 
+import numpy as np
 import pytest
 
 from can_dbc.contract import enumeration
@@ -111,13 +112,18 @@ def _cycle(v, x):
     return RegionCycle(ego, decide(ego, [TrackBox(x, 0.0, -v, 0.0, CLASS["CAR"], 0.05)], TWO_LANES, RP), True, 0.0)
 
 
-def test_a_lane_change_latches_once_braking_falls_short_of_the_standoff_and_an_arc_only_beyond_the_range():
+def test_a_lane_change_among_standing_objects_latches_short_of_the_standoff_an_arc_only_beyond_the_range():
     lane_change, arc = _cycle(27.7, 41.0), _cycle(30.0, 58.0)
     assert lane_change.decision.evasion_offset_m > 0.0 and arc.decision.evasion_offset_m == 0.0
     state, mode = CoreState(), Mode.CONTINGENCY
     for shortfall, evades, arcs in ((-PARAMS.standoff_m - 0.1, False, False), (-1.0, True, False), (0.1, True, True)):
         assert (latched_curvature(state, mode, lane_change, shortfall, PARAMS) is not None) is evades
         assert (latched_curvature(state, mode, arc, shortfall, PARAMS) is not None) is arcs
+    objects = lane_change.decision.objects
+    moving = lane_change._replace(decision=lane_change.decision._replace(
+        objects=objects._replace(moving=np.ones_like(objects.moving))))
+    assert latched_curvature(state, mode, moving, -1.0, PARAMS) is None  # a moving object: no standoff margin
+    assert latched_curvature(state, mode, moving, 0.1, PARAMS) is not None
 
 
 def test_the_latched_lane_change_carries_its_s_and_steers_left_then_brakes_inside_the_friction_circle():
