@@ -23,7 +23,7 @@ from setuptools import setup
 CORE = [
     "decel_estimate", "degraded", "intent", "modes", "output_gate", "plan", "plausibility", "proximity",
     "relative_stop", "relevance", "speed_estimate", "step", "stopping_path", "track_confirmation", "validity",
-    "steering", "planar",
+    "steering", "lane_change_tracking", "planar",
 ]
 #: the stopping region's modules on the step's path (``ecu/core/region``), compiled in their own group
 REGION = ["region/objects", "region/paths", "region/overlap", "region/road", "region/decision", "region/crossing",

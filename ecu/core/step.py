@@ -41,7 +41,7 @@ from .region.narrowing import Turn
 from .plausibility import Health, input_health, speed_radar_implausible
 from .relevance import object_in_path
 from .speed_estimate import next_speed
-from .steering import REQUEST_RANGE_RAD, steering, steering_held, unavoidable
+from .steering import REQUEST_RANGE_RAD, shortfall, steering, steering_held
 from .track_confirmation import confirmed, next_track
 from .types import REPORT_ONLY_FLAGS, CoreInputs, CoreOutputs, CoreState, FaultFlag
 from .validity import input_validity
@@ -88,7 +88,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
     if (fault and decel < params.contingency_decel_mps2 and confirmed_track
             and degraded_brake(speed, wheels_ok, driver_ok, inputs, params)):
         decel = params.contingency_decel_mps2  # degraded mode (ecu.core.degraded)
-    steer = steering(state, mode, region, unavoidable(relevant, cycle_plan, inputs.object_range_m),
+    steer = steering(state, mode, region, shortfall(relevant, cycle_plan, inputs.object_range_m),
                      inputs.steering_wheel_rad, inputs.yaw_rate_radps, speed, decel_mps2, params)
     gated = gate(mode, throttle, min(decel, steer.decel_mps2))
     steer_active, steer_rad, steer_bad = gate_steering(steer.active, steer.request_rad, REQUEST_RANGE_RAD)
@@ -102,7 +102,7 @@ def step(state: CoreState, inputs: CoreInputs, params: CoreParams) -> tuple[Core
         valid_cycles=valid_cycles, held_contingency=held,
         gate_interventions=state.gate_interventions + interventions, decel=estimate, track=track,
         cycles_since_drive=health.cycles_since_drive, traction_excess_mps=health.traction_excess_mps,
-        steer_curvature_1pm=steer.curvature_1pm, steer_request_rad=steer_rad,
+        steer_curvature_1pm=steer.curvature_1pm, steer_request_rad=steer_rad, steer_evasion=steer.evasion,
         slow_cycles=slow_cycles, way_out_backoffs=backoffs)
     outputs = CoreOutputs(
         mode=gated.mode, override_active=gated.override_active, throttle_limit_pct=gated.throttle_limit_pct,

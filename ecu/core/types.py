@@ -84,6 +84,18 @@ class CoreInputs(NamedTuple):
     steering_wheel_rad: float = 0.0
 
 
+class Evasion(NamedTuple):
+    """A held evasive lane change (:mod:`ecu.core.lane_change_tracking`): its lateral offset (m, left positive;
+    0: the held path is an arc), its lead-in (m: where its S begins), and the distance (m), heading change (rad)
+    and lateral offset (m) dead-reckoned since it was latched."""
+
+    offset_m: float = 0.0
+    lead_m: float = 0.0
+    travel_m: float = 0.0
+    heading_rad: float = 0.0
+    lateral_m: float = 0.0
+
+
 class CoreState(NamedTuple):
     """Everything carried from one cycle to the next. The start-up state is ``CoreState()``."""
 
@@ -112,6 +124,8 @@ class CoreState(NamedTuple):
     #: requested (rad) (:mod:`ecu.core.steering`)
     steer_curvature_1pm: float | None = None
     steer_request_rad: float = 0.0
+    #: the held path's lane change, if it is one (:mod:`ecu.core.steering`)
+    steer_evasion: Evasion = Evasion()
     #: cycles slow with something near the nominal path (:mod:`ecu.core.way_out`; 0 without a way-out rule)
     slow_cycles: int = 0
     #: turns given back at the narrowing ahead (:mod:`ecu.core.way_out`, backing off)

@@ -12,7 +12,9 @@ closes, at the ECU's speed estimate or at the true speed :func:`ecu.core.plan_cy
 the paper run and every standing-target cell of the 1-D catalogues are unchanged); and for issue 23 (the
 state carries ``slow_cycles``, :mod:`ecu.core.way_out`, 0 in every drive here: all 38,400 cycles decide as
 before, compared before re-recording), and again for issue 23 (the state carries ``way_out_backoffs``, 0 in
-every drive here: all 38,400 cycles decide as before, compared before re-recording); returned over the
+every drive here: all 38,400 cycles decide as before, compared before re-recording), and again for issue 22
+(the state carries ``steer_evasion``, the held lane change, :mod:`ecu.core.lane_change_tracking`, empty in every
+drive here: all 38,400 cycles decide as before, compared before re-recording); returned over the
 seeded drives of :mod:`.drives`:
 every strategy, four input-noise rates (forged, timed-out, future-stamped,
 E2E-invalid, receiver-flagged and non-finite inputs among them) and four

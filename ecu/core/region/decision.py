@@ -30,6 +30,7 @@ every object's gaps to the decision's rows (``object_gaps_m``), which the crossi
 
 from __future__ import annotations
 
+import bisect
 import math
 from enum import IntEnum
 from typing import NamedTuple, Sequence
@@ -37,6 +38,7 @@ from typing import NamedTuple, Sequence
 import numpy as np
 
 from ..stopping_path import stopping_distance_m
+from .evasion import evasion_family, evasion_params
 from .objects import ObjectSet, TrackBox, boxes_as_set, object_box
 from .overlap import Footprint, corner_points, footprint, object_gaps, speed_at_mps
 from .params import GRAVITY_MPS2, RegionParams
@@ -79,6 +81,10 @@ class RegionDecision(NamedTuple):
     driver_gaps_m: np.ndarray = np.empty((0, 0))
     #: per object, row of ``paths`` and pose, the gaps ``(K, N, M)`` (:func:`ecu.core.region.overlap.object_gaps`)
     object_gaps_m: np.ndarray = np.empty((0, 0, 0))
+    #: the chosen path is an evasive lane change (:mod:`ecu.core.region.evasion`): its lateral offset (m, left
+    #: positive; 0 if not) and where its S begins (m)
+    evasion_offset_m: float = 0.0
+    evasion_lead_m: float = 0.0
 
 
 def clearances(paths: PathSet, objects: ObjectSet, box: Footprint) -> tuple[np.ndarray, np.ndarray]:
@@ -181,21 +187,43 @@ def evaluate(ego: EgoState, road_curvature_1pm: float, objects: ObjectSet, param
 
 
 def _result(kind: Contingency, row: int, ctx: tuple, clearance: np.ndarray, impact: float,
-            steering: bool = False) -> RegionDecision:
+            steering: bool = False, evasion: tuple[float, float] = (0.0, 0.0)) -> RegionDecision:
     """The decision for ``row`` of ``ctx``'s paths (with their footprint and every object's gaps to them);
     ``clearance[DRIVER]`` and the driver's distance from the base."""
     paths, box, gaps, params, base = ctx
     decel = 0.0 if kind is Contingency.DRIVER_PATH else contingency_decel_mps2(paths, row, params)
     return RegionDecision(kind, row, float(paths.curvature_1pm[row]), decel, float(clearance[row]), impact,
                           float(paths.stop_m[row]), base.driver_disjoint, base.driver_stopping_distance_m,
-                          base.proximity, paths, box, base.objects, steering, base.driver_gaps_m, gaps)
+                          base.proximity, paths, box, base.objects, steering, base.driver_gaps_m, gaps,
+                          *evasion)
+
+
+def _evasion(ego: EgoState, road: Road | None, ctx: tuple) -> RegionDecision | None:
+    """Rule 3 over the evasive lane changes (:mod:`ecu.core.region.evasion`) when no arc is disjoint: the
+    admissible disjoint one with the largest clearance, or None. Needs a road (its own lane's width)."""
+    if road is None:
+        return None
+    params, base = ctx
+    params = evasion_params(params)
+    lane = bisect.bisect_right(road.boundaries_m, 0.0)
+    if lane == 0 or lane == len(road.boundaries_m):
+        return None
+    paths, offset, lead = evasion_family(ego, road.boundaries_m[lane] - road.boundaries_m[lane - 1], params)
+    box = footprint(paths, params)
+    _, clearance, gaps = separations(paths, base.objects, box)
+    disjoint = admissible_steering(paths, box, base.objects, road) & (clearance >= 0.0)
+    if not disjoint.any():
+        return None
+    row = int(np.argmax(np.where(disjoint, clearance, -np.inf)))
+    return _result(Contingency.STEER_AND_BRAKE, row, (paths, box, gaps, params, base), clearance, 0.0,
+                   steering=True, evasion=(float(offset[row]), float(lead[row])))
 
 
 def _steer_or_least_impact(steering: Evaluation, speeds: np.ndarray, lane: tuple[float, float],
                            road: Road | None, ctx: tuple) -> RegionDecision:
-    """Rules 3 and 4 over the ``steering`` rows and their impact ``speeds``; ``lane``: the lane row's
-    (clearance, impact speed); ``ctx``: (params, base decision)."""
-    params, base = ctx
+    """Rules 3 and 4 over the ``steering`` rows and their impact ``speeds``, then (rule 3 still) the evasive lane
+    changes; ``lane``: the lane row's (clearance, impact speed); ``ctx``: (params, base decision, ego)."""
+    params, base, ego = ctx
     paths, box, clearance = steering.paths, steering.box, steering.clearance
     ok = admissible_steering(paths, box, base.objects, road)
     result_ctx = (paths, box, steering.gaps, params, base)
@@ -203,6 +231,9 @@ def _steer_or_least_impact(steering: Evaluation, speeds: np.ndarray, lane: tuple
     if disjoint.any():
         row = int(np.argmax(np.where(disjoint, clearance, -np.inf)))
         return _result(Contingency.STEER_AND_BRAKE, row, result_ctx, clearance, 0.0, steering=True)
+    evasion = _evasion(ego, road, (params, base))
+    if evasion is not None:
+        return evasion
     speeds = np.where(ok, speeds, np.inf)
     row = int(np.argmin(speeds))
     if speeds[row] < lane[1]:
@@ -261,4 +292,4 @@ def decide_boxes(ego: EgoState, boxes: Sequence[tuple[float, ...]], road: Road |
         return _lane_least_impact(params, base, (float(clearance[LANE]),
                                                  float(impact_speeds_mps(paths, first.per_pose)[LANE])))
     steering, speeds, lane_speed = _steering_rows(ego, road_k, params, whole, base)
-    return _steer_or_least_impact(steering, speeds, (float(clearance[LANE]), lane_speed), road, (params, base))
+    return _steer_or_least_impact(steering, speeds, (float(clearance[LANE]), lane_speed), road, (params, base, ego))
