@@ -27,7 +27,7 @@ CORE = [
 ]
 #: the stopping region's modules on the step's path (``ecu/core/region``), compiled in their own group
 REGION = ["region/objects", "region/paths", "region/overlap", "region/road", "region/decision", "region/crossing",
-          "region/lane_change", "region/narrowing", "region/reciprocal", "region/tightening"]
+          "region/lane_change", "region/narrowing", "region/reciprocal", "region/tightening", "region/evasion"]
 #: mypyc's options: the core's imports (numpy, python-can, the DBC-built enums) are checked only as far as it uses
 #: them
 OPTIONS = ["--ignore-missing-imports", "--follow-imports=silent"]
