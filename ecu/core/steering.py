@@ -110,11 +110,11 @@ def latched_curvature(state: CoreState, mode: Mode, region: RegionCycle | None, 
     """The held steering path's curvature (module docstring, Latch); None for none."""
     if mode is not _CONTINGENCY:
         return None
-    held = state.steer_curvature_1pm
+    held: float | None = state.steer_curvature_1pm
     if held is not None or region is None or region.decision.kind is not Contingency.STEER_AND_BRAKE:
         return held
     if shortfall_m <= -_latch_margin_m(region, params):
-        return held
+        return None
     bounds = tightened_bounds(region.ego, region.decision, params.region)
     return min(bounds.curvature_hi_1pm, max(bounds.curvature_lo_1pm, region.decision.curvature_1pm))
 
