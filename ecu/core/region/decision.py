@@ -198,6 +198,15 @@ def _result(kind: Contingency, row: int, ctx: tuple, clearance: np.ndarray, impa
                           *evasion)
 
 
+def _free_sides(road: Road, lane: int, objects: ObjectSet) -> tuple[float, ...]:
+    """The sides (1: left, -1: right) where the road's allowed span (:func:`ecu.core.region.road.allowed_span`)
+    goes beyond our ``lane``: a lane change toward any other side is never admissible, so it is not built (a
+    third of the urgent step's cost with one free lane)."""
+    span = allowed_span(road, lateral_offsets(road, objects.centre))
+    left, right = span[1] > road.boundaries_m[lane], span[0] < road.boundaries_m[lane - 1]
+    return (1.0, -1.0) if left and right else (1.0,) if left else (-1.0,) if right else ()
+
+
 def _evasion(ego: EgoState, road: Road | None, ctx: tuple) -> RegionDecision | None:
     """Rule 3 over the evasive lane changes (:mod:`ecu.core.region.evasion`) when no arc is disjoint: the
     admissible disjoint one with the largest clearance, or None. Needs a road (its own lane's width)."""
@@ -208,7 +217,10 @@ def _evasion(ego: EgoState, road: Road | None, ctx: tuple) -> RegionDecision | N
     lane = bisect.bisect_right(road.boundaries_m, 0.0)
     if lane == 0 or lane == len(road.boundaries_m):
         return None
-    paths, offset, lead = evasion_family(ego, road.boundaries_m[lane] - road.boundaries_m[lane - 1], params)
+    sides = _free_sides(road, lane, base.objects)
+    if not sides:
+        return None
+    paths, offset, lead = evasion_family(ego, road.boundaries_m[lane] - road.boundaries_m[lane - 1], params, sides)
     box = footprint(paths, params)
     _, clearance, gaps = separations(paths, base.objects, box)
     disjoint = admissible_steering(paths, box, base.objects, road) & (clearance >= 0.0)

@@ -63,10 +63,10 @@ def evasion_params(params: RegionParams) -> RegionParams:
     return dataclasses.replace(params, path_samples=EVASION_SAMPLES_FACTOR * params.path_samples)
 
 
-def evasion_rows(v_h: float, friction_mps2: float, lane_width_m: float,
-                 params: RegionParams) -> tuple[np.ndarray, np.ndarray]:
-    """(``kappa_s``, the lateral offset ``W``) per row, left positive: every side, offset and lateral level of the
-    module docstring at ``v_h``, ``kappa_s`` capped by the steering-angle limit."""
+def evasion_rows(v_h: float, friction_mps2: float, lane_width_m: float, params: RegionParams,
+                 sides: tuple[float, ...] = (1.0, -1.0)) -> tuple[np.ndarray, np.ndarray]:
+    """(``kappa_s``, the lateral offset ``W``) per row, left positive: every side of ``sides`` (1: left, -1: right),
+    offset and lateral level of the module docstring at ``v_h``, ``kappa_s`` capped by the steering-angle limit."""
     top = max(params.emergency_lat_accel_max_mps2, EVASION_FRICTION_SHARE * friction_mps2)
     levels = np.linspace(params.emergency_lat_accel_max_mps2, top, EVASION_LEVELS)
     limit = math.tan(params.steer_angle_max_rad) / params.wheelbase_m
@@ -74,7 +74,7 @@ def evasion_rows(v_h: float, friction_mps2: float, lane_width_m: float,
     farthest = 1.5 * lane_width_m - 0.5 * params.width_m - params.lateral_margin_m
     offsets = np.linspace(lane_width_m, max(lane_width_m, farthest), EVASION_OFFSETS)
     k, w = (a.ravel() for a in np.meshgrid(kappa, offsets))
-    return np.concatenate((k, -k)), np.concatenate((w, w))
+    return np.concatenate([side * k for side in sides]), np.concatenate([w for _ in sides])
 
 
 def s_half_m(kappa_s: np.ndarray, offset_m: np.ndarray) -> np.ndarray:
@@ -102,13 +102,14 @@ def piecewise_poses(s: np.ndarray, lengths: np.ndarray, curvatures: np.ndarray) 
     return position, heading
 
 
-def evasion_family(ego: EgoState, lane_width_m: float,
-                   params: RegionParams) -> tuple[PathSet, np.ndarray, np.ndarray]:
-    """The lane-change rows (module docstring), each row's lateral offset ``W`` (m, left positive) and lead-in (m)."""
+def evasion_family(ego: EgoState, lane_width_m: float, params: RegionParams,
+                   sides: tuple[float, ...] = (1.0, -1.0)) -> tuple[PathSet, np.ndarray, np.ndarray]:
+    """The lane-change rows (module docstring) toward ``sides``, each row's lateral offset ``W`` (m, left positive)
+    and lead-in (m)."""
     k0 = current_curvature(ego, params)
     friction = min(ego.decel_mps2, ego.friction_mu * GRAVITY_MPS2)
     d_hold, v_h = hold_phase(ego.speed_mps, ego.accel_mps2, params.hold_time_s)
-    kappa, offset = evasion_rows(v_h, friction, lane_width_m, params)
+    kappa, offset = evasion_rows(v_h, friction, lane_width_m, params, sides)
     half = s_half_m(kappa, offset)
     lead = lead_in_m(v_h, d_hold, k0, kappa, params)
     demand = np.abs(kappa) + abs(k0)
