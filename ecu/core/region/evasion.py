@@ -3,20 +3,24 @@
 The steering rows of :mod:`ecu.core.region.paths` hold their curvature until the car stops. At speed their
 stopping paths are long (the friction circle leaves little braking beside the turn), so an arc that clears
 an object close ahead keeps turning and leaves the road: in the ``emergency_steering`` catalogue no arc was
-admissible where the offline oracle avoided by a lane change (``cosim.matrix.oracle``: late-stationary-free-80
-and -120, cut-out-free-90). An emergency steering function of UN R79 does what the oracle does: it steers
+admissible where the offline oracle avoided by a lane change (``cosim.matrix.oracle``: late-stationary-free-80,
+-100 and -120; cut-out-free-90 is avoided by braking since the release rule of :func:`ecu.core.planar.merged`). An emergency steering function of UN R79 does what the oracle does: it steers
 around the object into the free lane and stays on the road (planar-protocol-facts.md section 4, S5).
 
-**The rows** (``evasion_family``): for each side and lateral level ``a_j`` (:data:`EVASION_LEVELS`), the
+**The rows** (``evasion_family``): for each side with a free lane, lateral offset ``W`` (:data:`EVASION_OFFSETS`:
+from one lane width to the farthest the lane allows) and lateral level ``a_j`` (:data:`EVASION_LEVELS`), the
 S-curve of two arcs ``+kappa_s`` and ``-kappa_s``, ``kappa_s = a_j / v_h^2``, each of the length ``l`` that
-moves the car one lane width ``W`` over with its heading back to the road's::
+moves the car ``W`` over with its heading back to the road's::
 
     W = 2 (1 - cos(kappa_s l)) / kappa_s   ->   l = arccos(1 - kappa_s W / 2) / kappa_s
 
 after the same lead-in as a steering row (hold, steering lag, half the ramp from ``kappa_0``), then on in the
 new lane. The assumed road follows the current curvature ``kappa_0`` (:func:`ecu.core.planar.assumed_road`),
-so the arcs are ``kappa_0 + kappa_s`` and ``kappa_0 - kappa_s`` and the lane after them ``kappa_0``. The switch from ``+kappa_s`` to ``-kappa_s`` is a ramp replaced by its two halves at the
-end curvatures, as for the lead-in (its heading change is kept exactly).
+so the arcs are ``kappa_0 + kappa_s`` and ``kappa_0 - kappa_s`` and the lane after them ``kappa_0``. The switch
+from ``+kappa_s`` to ``-kappa_s`` is a ramp replaced by its two halves at the end curvatures, as for the
+lead-in (its heading change is kept exactly). A car dead ahead, reported by its nearest point, is widened by
+its half width on each side (:mod:`ecu.core.region.objects`), so passing it takes most of a lane: hence the
+offsets beyond the next lane's centre.
 
 **Stopping along it**: the lead-in and the S at the hold speed ``v_h``, then full braking ``A`` straight on in
 the new lane, ``s_stop = s_lead + 2 l + v_h^2 / (2 A)``. The execution (:mod:`ecu.core.lane_change_tracking`)
