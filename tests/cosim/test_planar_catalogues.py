@@ -191,9 +191,10 @@ def test_layout_errors_name_the_key(tmp_path):
 # -- representative closed-loop runs ----------------------------------------------------------------------
 @pytest.mark.slow
 def test_representative_planar_cells_run_and_fail_with_a_thumbnail(tmp_path):
-    """A kerb stop draws no intervention; a late stationary car at 100 km/h is hit (braking cannot stop within
-    42 m, and no steering path's stopping path is disjoint: the ECU brakes in lane), on the road, and its report
-    shows the failing cell's thumbnail."""
+    """A kerb stop draws no intervention; a late stationary car at 100 km/h with the next lane occupied is hit
+    (braking cannot stop within 42 m, and no steering path may enter the occupied lane: the ECU brakes in lane),
+    on the road, and its report shows the failing cell's thumbnail. With the next lane free the ECU changes
+    lanes and avoids it (round 33), so that cell passes and has no thumbnail."""
     from dataclasses import replace
 
     from cosim.matrix.report import write_outputs
@@ -202,16 +203,19 @@ def test_representative_planar_cells_run_and_fail_with_a_thumbnail(tmp_path):
     fp = load_catalogue("planar_false_positive")
     es = load_catalogue("emergency_steering")
     cats = [replace(fp, cells=tuple(c for c in fp.cells if c.cell_id == "kerb-stop-40")),
-            replace(es, cells=tuple(c for c in es.cells if c.cell_id == "late-stationary-free-100"))]
+            replace(es, cells=tuple(c for c in es.cells if c.cell_id in ("late-stationary-occupied-100",
+                                                                          "late-stationary-free-100")))]
     rows, _ = run_matrix(cats, ["tightening"], phases=1, workers=1)
-    kerb, late = rows
+    kerb, free, late = sorted(rows, key=lambda r: (r["catalogue"] != "planar_false_positive", r["cell"]))
+    assert free["cell"] == "late-stationary-free-100" and free["passed"] and not free["collided"]
     assert kerb["passed"] and kerb["interventions"] == 0 and not kerb["collided"]
     assert late["collided"] and late["hit_object"] == "stopped car" and late["road_departure_m"] == 0.0
     assert 0.0 < late["impact_kmh"] < 100.0 and not late["passed"]
     report = write_outputs(tmp_path, cats, rows, {"strategies": ["tightening"], "phases": 1, "runs": 2, "wall_s": 1.0,
                                                   "workers": 1, "version": "test"})
-    thumb = tmp_path / "thumbs" / "emergency_steering_late-stationary-free-100.png"
+    thumb = tmp_path / "thumbs" / "emergency_steering_late-stationary-occupied-100.png"
     assert thumb.is_file() and f"(thumbs/{thumb.name})" in report.read_text()
+    assert not (tmp_path / "thumbs" / "emergency_steering_late-stationary-free-100.png").exists()
     assert not list((tmp_path / "thumbs").glob("planar_false_positive_*"))
     assert "trace" not in (tmp_path / "matrix.json").read_text()
 
